@@ -1,0 +1,80 @@
+// Tetrahedral mesh utilities: generators (box, beam, cylinder), a Gmsh .msh
+// reader (ASCII 2.2 and 4.1), orientation fixing, lumped masses, surface
+// extraction and connected components. Pure C++; no PETSc.
+//
+// Orientation convention (used by every fdem kernel): a tetrahedron
+// (n0, n1, n2, n3) is valid when det[x1-x0, x2-x0, x3-x0] > 0, i.e. its signed
+// volume V = det/6 is positive. (PETSc's DMPlexCreateFromCellListPetsc wants
+// the opposite sign: swap n1 and n2 when handing cells to DMPlex.)
+#pragma once
+#include <array>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <fdem/kernels/vec3.hpp>
+
+namespace fdem::kernels {
+
+struct TetMesh {
+  std::vector<Vec3> nodes;
+  std::vector<std::array<int, 4>> tets;
+  std::vector<int> body;                // body id per tetrahedron, 0..n_bodies-1
+  std::vector<std::string> body_names;  // per body id (physical name, or "component_<i>")
+  int NumBodies() const { return static_cast<int>(body_names.size()); }
+};
+
+// Signed volume det[b-a, c-a, d-a] / 6.
+double TetSignedVolume(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &d);
+double TetSignedVolume(const TetMesh &mesh, int tet);
+double TotalVolume(const TetMesh &mesh);
+
+// Swap nodes 1 and 2 of every tetrahedron with negative signed volume so that
+// all volumes become positive. Throws InputError naming the body and element
+// for a degenerate tetrahedron (|6V| <= 1e-12 * (longest edge)^3). Returns the
+// number of tetrahedra flipped.
+int OrientTets(TetMesh &mesh);
+int OrientTets(const std::vector<Vec3> &nodes, std::vector<std::array<int, 4>> &tets,
+               const std::vector<int> &body = {});
+
+// Structured box [lo, hi] with nx*ny*nz cells, each cut into 6 tetrahedra
+// around its main diagonal (Kuhn subdivision, conforming across cells).
+// Nodes are numbered i + (nx+1)*(j + (ny+1)*k). One body ("box").
+TetMesh MakeBoxMesh(const Vec3 &lo, const Vec3 &hi, int nx, int ny, int nz);
+// Box [0,L]x[0,W]x[0,H] with n cells across the smallest side and the other
+// counts proportional (rounded, at least 1). One body ("beam").
+TetMesh MakeBeamMesh(double L, double W, double H, int n);
+// Cylinder of axis z, base centred at the origin, 0 <= z <= height. The
+// cross-section is the polygon of 6*n_radial vertices at the given radius,
+// triangulated in n_radial rings (ring k has 6k nodes), extruded in n_axial
+// layers, each prism cut into 3 tetrahedra conformingly (diagonals from the
+// lower-numbered node). Volume = height * 3 n_radial radius^2 sin(pi/(3 n_radial)).
+TetMesh MakeCylinderMesh(double radius, double height, int n_radial, int n_axial);
+
+// Gmsh .msh reader, ASCII formats 2.2 and 4.1. Keeps 4-node tetrahedra (type
+// 4); ignores points, lines and surface elements; rejects any other volume
+// element type. Physical volume groups become bodies (sorted by tag, named via
+// $PhysicalNames, else "physical_<tag>"); without physical groups each
+// node-connected component is a body. Only nodes used by tetrahedra are kept
+// (in the order of their tags). Tetrahedra are re-oriented to positive volume.
+// Errors: InputError "file:line: what".
+TetMesh ReadGmsh(const std::string &path);
+TetMesh ParseGmsh(std::istream &in, const std::string &filename);
+
+// Lumped nodal masses: each tetrahedron gives rho_body * V / 4 to each node.
+std::vector<double> LumpedMasses(const TetMesh &mesh, const std::vector<double> &density_per_body);
+
+struct SurfaceInfo {
+  std::vector<int> tets;                    // tetrahedra with >= 1 boundary face (ascending)
+  std::vector<std::array<int, 3>> faces;    // boundary faces, normal (b-a)x(c-a) outward
+  std::vector<int> face_tet;                // owning tetrahedron of each face
+};
+// Boundary faces are faces that belong to exactly one tetrahedron.
+SurfaceInfo SurfaceTets(const TetMesh &mesh);
+
+// Connected components of tetrahedra sharing at least one node. Returns the
+// component of each tetrahedron, numbered in order of first appearance;
+// *n_components receives the count.
+std::vector<int> ConnectedComponents(const TetMesh &mesh, int *n_components = nullptr);
+
+} // namespace fdem::kernels
