@@ -93,7 +93,7 @@ int main(int argc, char **argv) {
     {"cd", nullptr, 2, 0.15, false},         {"pv", nullptr, 2, 0.15, false},         {"omf30", nullptr, 2, 0.15, false},
     {"fr", nullptr, 4, 0.25, false},         {"pefrl", nullptr, 4, 0.25, false},      {"chin", "shifted", 4, 0.25, false},
     {"chin", "fd", 4, 0.25, false},          {"chin", "jvp", 4, 0.25, false},         {"omf32", "shifted", 4, 0.3, false},
-    {"omf32", "fd", 4, 0.3, false},          {"omf32", "jvp", 4, 0.3, false, 0.4},         {"omf32", "shifted", 4, 0.3, true},
+    {"omf32", "fd", 4, 0.3, false},          {"omf32", "jvp", 4, 0.3, false},         {"omf32", "shifted", 4, 0.3, true},
     {"omf32", "fd", 4, 0.3, true},           {"pefrl", nullptr, 4, 0.25, true},       {"cd", nullptr, 2, 0.15, true},
     {"t112", "fd", 3, 0.3, false},           {"t112", "jvp", 3, 0.3, false},          {"t16", "fd", 3, 0.3, false},
     {"t16", "jvp", 3, 0.3, false},           {"d112", "fd", 3, 0.3, false},           {"pc3", nullptr, 3, 0.3, false, 0.05},
