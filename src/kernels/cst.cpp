@@ -1,0 +1,438 @@
+// Constant-strain tetrahedron kernels; see cst.hpp and doc/element.md.
+#include <fdem/kernels/cst.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <fdem/kernels/error.hpp>
+
+namespace fdem::kernels {
+
+// ---------------------------------------------------------------- materials
+// Symmetric tensors are stored as (xx, yy, zz, xy, yz, xz).
+namespace {
+
+// Book eq 4.220 with 4.215, 4.218, 4.219 (J = det F > 0 here):
+//   T = E/(1+nu) Ed / J^(2/3) + E/(1-2nu) Es / J^(2/3) + 2 mu D / J^(2/3)
+//   Ed = (B / J^(2/3) - I) / 2,  Es = (J^(2/3) - 1) I / 2,  B = F F^T.
+// Small strain: Ed -> dev(eps), Es -> tr(eps)/3 I, so T -> 2G dev(eps) + K tr(eps) I
+// which is Hooke's law exactly (doc/element.md).
+struct MunjizaCSTModel {
+  static constexpr bool kSmallStrain = false;
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
+    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
+    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
+    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
+    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
+    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
+    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
+    const double cj = std::cbrt(J);
+    const double j23 = cj * cj, ij23 = 1.0 / j23;
+    const double a = 0.5 * c.c_dev * ij23;                      // E/(1+nu) * (1/2) / J^(2/3)
+    const double aB = a * ij23;                                  // ... times B / J^(2/3)
+    const double s = 0.5 * c.c_vol * (j23 - 1.0) * ij23 - a;     // volumetric part and the -I of Ed
+    const double w = c.c_visc * ij23;                            // 2 mu / J^(2/3)
+    T[0] = aB * B0 + s + w * D[0];
+    T[1] = aB * B1 + s + w * D[1];
+    T[2] = aB * B2 + s + w * D[2];
+    T[3] = aB * B3 + w * D[3];
+    T[4] = aB * B4 + w * D[4];
+    T[5] = aB * B5 + w * D[5];
+  }
+};
+
+// Compressible neo-Hookean (isochoric/volumetric split):
+//   T = G/J dev(J^(-2/3) B) + K/2 (J - 1/J) I + 2 mu D.
+struct NeoHookeanModel {
+  static constexpr bool kSmallStrain = false;
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
+    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
+    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
+    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
+    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
+    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
+    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
+    const double cj = std::cbrt(J);
+    const double iJ = 1.0 / J;
+    const double g = c.G * iJ / (cj * cj);  // G / J * J^(-2/3)
+    const double tr3 = (B0 + B1 + B2) * (1.0 / 3.0);
+    const double p = 0.5 * c.K * (J - iJ) - g * tr3;
+    const double w = c.c_visc;
+    T[0] = g * B0 + p + w * D[0];
+    T[1] = g * B1 + p + w * D[1];
+    T[2] = g * B2 + p + w * D[2];
+    T[3] = g * B3 + w * D[3];
+    T[4] = g * B4 + w * D[4];
+    T[5] = g * B5 + w * D[5];
+  }
+};
+
+// Small-strain linear tetrahedron: eps = sym(F) - I, T = lambda tr(eps) I + 2G eps + 2 mu sym(Fdot).
+// Forces use the reference geometry (f = -K u). Not objective: a rigid rotation strains it.
+struct SmallStrainLinearModel {
+  static constexpr bool kSmallStrain = true;
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double /*J*/, const double *D, double *T) {
+    const double e0 = F[0] - 1.0, e1 = F[4] - 1.0, e2 = F[8] - 1.0;
+    const double G2 = 2.0 * c.G, lt = c.lambda * (e0 + e1 + e2), w = c.c_visc;
+    T[0] = G2 * e0 + lt + w * D[0];
+    T[1] = G2 * e1 + lt + w * D[1];
+    T[2] = G2 * e2 + lt + w * D[2];
+    T[3] = c.G * (F[1] + F[3]) + w * D[3];
+    T[4] = c.G * (F[5] + F[7]) + w * D[4];
+    T[5] = c.G * (F[2] + F[6]) + w * D[5];
+  }
+};
+
+// Diagnostics written by Core when requested.
+struct Extra {
+  double F[9], L[9], D[6], J;
+};
+
+// Status: 0 ok, 1 inverted and force skipped, 2 inverted but force computed.
+template <class Model, bool Visc, bool Diag>
+inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__restrict x, const double *__restrict v,
+                double *__restrict T, double *__restrict fe, Extra *ex) {
+  const double *x0 = x + 3 * el.n[0], *x1 = x + 3 * el.n[1], *x2 = x + 3 * el.n[2], *x3 = x + 3 * el.n[3];
+  // Current edge matrix C = [x1-x0, x2-x0, x3-x0] (columns), row-major.
+  const double c00 = x1[0] - x0[0], c01 = x2[0] - x0[0], c02 = x3[0] - x0[0];
+  const double c10 = x1[1] - x0[1], c11 = x2[1] - x0[1], c12 = x3[1] - x0[1];
+  const double c20 = x1[2] - x0[2], c21 = x2[2] - x0[2], c22 = x3[2] - x0[2];
+  const double *Xi = el.Xinv;
+  // F = C Xref^-1 (eqs 4.209-4.211).
+  double F[9];
+  F[0] = c00 * Xi[0] + c01 * Xi[3] + c02 * Xi[6];
+  F[1] = c00 * Xi[1] + c01 * Xi[4] + c02 * Xi[7];
+  F[2] = c00 * Xi[2] + c01 * Xi[5] + c02 * Xi[8];
+  F[3] = c10 * Xi[0] + c11 * Xi[3] + c12 * Xi[6];
+  F[4] = c10 * Xi[1] + c11 * Xi[4] + c12 * Xi[7];
+  F[5] = c10 * Xi[2] + c11 * Xi[5] + c12 * Xi[8];
+  F[6] = c20 * Xi[0] + c21 * Xi[3] + c22 * Xi[6];
+  F[7] = c20 * Xi[1] + c21 * Xi[4] + c22 * Xi[7];
+  F[8] = c20 * Xi[2] + c21 * Xi[5] + c22 * Xi[8];
+  // adj(C): C^-1 = adj(C)/det C; row a of C^-1 is grad N_{a+1} (current).
+  const double A00 = c11 * c22 - c12 * c21, A01 = c02 * c21 - c01 * c22, A02 = c01 * c12 - c02 * c11;
+  const double A10 = c12 * c20 - c10 * c22, A11 = c00 * c22 - c02 * c20, A12 = c02 * c10 - c00 * c12;
+  const double A20 = c10 * c21 - c11 * c20, A21 = c01 * c20 - c00 * c21, A22 = c00 * c11 - c01 * c10;
+  const double detC = c00 * A00 + c01 * A10 + c02 * A20;
+  const double J = detC * el.inv6V0;
+  int status = 0;
+  if (!(J > 0)) {
+    if constexpr (!Model::kSmallStrain) {
+      if constexpr (Diag) ex->J = J;
+      return 1;
+    }
+    status = 2;
+  }
+  double D[6] = {0, 0, 0, 0, 0, 0};
+  double L[9];
+  if constexpr (Visc) {
+    const double *v0 = v + 3 * el.n[0], *v1 = v + 3 * el.n[1], *v2 = v + 3 * el.n[2], *v3 = v + 3 * el.n[3];
+    const double w00 = v1[0] - v0[0], w01 = v2[0] - v0[0], w02 = v3[0] - v0[0];
+    const double w10 = v1[1] - v0[1], w11 = v2[1] - v0[1], w12 = v3[1] - v0[1];
+    const double w20 = v1[2] - v0[2], w21 = v2[2] - v0[2], w22 = v3[2] - v0[2];
+    if constexpr (Model::kSmallStrain) {
+      // Fdot = W Xref^-1.
+      L[0] = w00 * Xi[0] + w01 * Xi[3] + w02 * Xi[6];
+      L[1] = w00 * Xi[1] + w01 * Xi[4] + w02 * Xi[7];
+      L[2] = w00 * Xi[2] + w01 * Xi[5] + w02 * Xi[8];
+      L[3] = w10 * Xi[0] + w11 * Xi[3] + w12 * Xi[6];
+      L[4] = w10 * Xi[1] + w11 * Xi[4] + w12 * Xi[7];
+      L[5] = w10 * Xi[2] + w11 * Xi[5] + w12 * Xi[8];
+      L[6] = w20 * Xi[0] + w21 * Xi[3] + w22 * Xi[6];
+      L[7] = w20 * Xi[1] + w21 * Xi[4] + w22 * Xi[7];
+      L[8] = w20 * Xi[2] + w21 * Xi[5] + w22 * Xi[8];
+    } else {
+      // L = W C^-1 = (W Xref^-1) F^-1 = Fdot F^-1 (eq 4.212).
+      const double id = 1.0 / detC;
+      L[0] = (w00 * A00 + w01 * A10 + w02 * A20) * id;
+      L[1] = (w00 * A01 + w01 * A11 + w02 * A21) * id;
+      L[2] = (w00 * A02 + w01 * A12 + w02 * A22) * id;
+      L[3] = (w10 * A00 + w11 * A10 + w12 * A20) * id;
+      L[4] = (w10 * A01 + w11 * A11 + w12 * A21) * id;
+      L[5] = (w10 * A02 + w11 * A12 + w12 * A22) * id;
+      L[6] = (w20 * A00 + w21 * A10 + w22 * A20) * id;
+      L[7] = (w20 * A01 + w21 * A11 + w22 * A21) * id;
+      L[8] = (w20 * A02 + w21 * A12 + w22 * A22) * id;
+    }
+    D[0] = L[0];
+    D[1] = L[4];
+    D[2] = L[8];
+    D[3] = 0.5 * (L[1] + L[3]);
+    D[4] = 0.5 * (L[5] + L[7]);
+    D[5] = 0.5 * (L[2] + L[6]);
+  } else {
+    (void)v;
+    for (double &l : L) l = 0;
+  }
+  Model::Stress(c, F, J, D, T);
+  if constexpr (Diag) {
+    for (int i = 0; i < 9; ++i) ex->F[i] = F[i], ex->L[i] = L[i];
+    for (int i = 0; i < 6; ++i) ex->D[i] = D[i];
+    ex->J = J;
+  }
+  // Nodal forces f_a = -vol T grad N_a (eq 4.221 with the 1/3 face split:
+  // equals T a_a / 3, a_a the outward area vector of the face opposite a).
+  double g[9];
+  if constexpr (Model::kSmallStrain) {
+    const double s = -el.V0;  // reference volume times reference gradients
+    for (int i = 0; i < 9; ++i) g[i] = s * Xi[i];
+  } else {
+    const double s = -1.0 / 6.0;  // vol * C^-1 = adj(C) / 6
+    g[0] = s * A00, g[1] = s * A01, g[2] = s * A02;
+    g[3] = s * A10, g[4] = s * A11, g[5] = s * A12;
+    g[6] = s * A20, g[7] = s * A21, g[8] = s * A22;
+  }
+  double s0 = 0, s1 = 0, s2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double gx = g[3 * a], gy = g[3 * a + 1], gz = g[3 * a + 2];
+    const double fx = T[0] * gx + T[3] * gy + T[5] * gz;
+    const double fy = T[3] * gx + T[1] * gy + T[4] * gz;
+    const double fz = T[5] * gx + T[4] * gy + T[2] * gz;
+    fe[3 * (a + 1)] = fx, fe[3 * (a + 1) + 1] = fy, fe[3 * (a + 1) + 2] = fz;
+    s0 += fx, s1 += fy, s2 += fz;
+  }
+  fe[0] = -s0, fe[1] = -s1, fe[2] = -s2;
+  return status;
+}
+
+template <class Model, bool Visc>
+std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count, const MaterialCoeffs &c,
+                   const double *x, const double *v, double *f) {
+  std::int64_t bad = -1;
+  const MaterialCoeffs cc = c;
+  for (std::size_t i = 0; i < count; ++i) {
+    const TetElement &el = elems[i];
+    double T[6], fe[12];
+    const int st = Core<Model, Visc, false>(el, cc, x, v, T, fe, nullptr);
+    if (st != 0) {
+      if (bad < 0) bad = static_cast<std::int64_t>(first + i);
+      if (st == 1) continue;
+    }
+    for (int a = 0; a < 4; ++a) {
+      double *fa = f + 3 * el.n[a];
+      fa[0] += fe[3 * a];
+      fa[1] += fe[3 * a + 1];
+      fa[2] += fe[3 * a + 2];
+    }
+  }
+  return bad;
+}
+
+template <class Model>
+void StressPoint(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
+  Model::Stress(c, F, J, D, T);
+}
+
+template <class Model>
+MaterialModel Entry(const char *name) {
+  return {name, Model::kSmallStrain, &StressPoint<Model>, &Batch<Model, true>, &Batch<Model, false>};
+}
+
+std::string MatName(const Material &m) { return "material '" + m.name + "'"; }
+
+} // namespace
+
+const std::vector<MaterialModel> &MaterialModels() {
+  // Order matches MaterialModelId. A new model: one struct above + one line here.
+  static const std::vector<MaterialModel> table = {
+      Entry<MunjizaCSTModel>("munjiza_cst"),
+      Entry<NeoHookeanModel>("neo_hookean"),
+      Entry<SmallStrainLinearModel>("small_strain_linear"),
+  };
+  return table;
+}
+
+int FindMaterialModel(const std::string &name) {
+  const auto &t = MaterialModels();
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (name == t[i].name) return static_cast<int>(i);
+  return -1;
+}
+
+void CheckMaterial(const Material &m) {
+  auto num = [](double d) {
+    std::ostringstream o;
+    o << d;
+    return o.str();
+  };
+  if (!(m.E > 0) || !std::isfinite(m.E))
+    throw InputError(MatName(m) + ": Young's modulus E = " + num(m.E) + " must be positive and finite");
+  if (!(m.nu > -1.0 && m.nu < 0.5))
+    throw InputError(MatName(m) + ": Poisson's ratio nu = " + num(m.nu) + " must satisfy -1 < nu < 0.5");
+  if (!(m.rho > 0) || !std::isfinite(m.rho))
+    throw InputError(MatName(m) + ": density rho = " + num(m.rho) + " must be positive and finite");
+  if (!(m.mu_visc >= 0) || !std::isfinite(m.mu_visc))
+    throw InputError(MatName(m) + ": viscosity mu = " + num(m.mu_visc) + " must be >= 0 and finite");
+  if (m.model < 0 || m.model >= static_cast<int>(MaterialModels().size()))
+    throw InputError(MatName(m) + ": unknown material model " + std::to_string(m.model));
+}
+
+MaterialCoeffs MakeCoeffs(const Material &m) {
+  CheckMaterial(m);
+  MaterialCoeffs c;
+  c.c_dev = m.E / (1.0 + m.nu);
+  c.c_vol = m.E / (1.0 - 2.0 * m.nu);
+  c.c_visc = 2.0 * m.mu_visc;
+  c.G = 0.5 * c.c_dev;
+  c.K = c.c_vol / 3.0;
+  c.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
+  return c;
+}
+
+// ---------------------------------------------------------------- elements
+ElementData BuildElementData(const std::vector<Vec3> &X, const std::vector<std::array<int, 4>> &tets,
+                             const std::vector<Material> &materials, const std::vector<int> &tet_material,
+                             const std::vector<int> &tet_body) {
+  if (materials.empty()) throw InputError("BuildElementData: no materials given");
+  if (!tet_material.empty() && tet_material.size() != tets.size())
+    throw InputError("BuildElementData: " + std::to_string(tet_material.size()) + " material indices for " +
+                     std::to_string(tets.size()) + " tetrahedra");
+  if (!tet_body.empty() && tet_body.size() != tets.size())
+    throw InputError("BuildElementData: " + std::to_string(tet_body.size()) + " body ids for " +
+                     std::to_string(tets.size()) + " tetrahedra");
+  ElementData d;
+  d.materials = materials;
+  for (const auto &m : materials) d.coeffs.push_back(MakeCoeffs(m));
+  d.body = tet_body.empty() ? std::vector<int>(tets.size(), 0) : tet_body;
+  d.elems.resize(tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    auto where = [&] { return "body " + std::to_string(d.body[t]) + ", element " + std::to_string(t); };
+    TetElement &el = d.elems[t];
+    el.n = tets[t];
+    for (int a = 0; a < 4; ++a)
+      if (el.n[a] < 0 || el.n[a] >= static_cast<int>(X.size()))
+        throw InputError(where() + ": node index " + std::to_string(el.n[a]) + " out of range [0, " +
+                         std::to_string(X.size()) + ")");
+    el.material = tet_material.empty() ? 0 : tet_material[t];
+    if (el.material < 0 || el.material >= static_cast<int>(materials.size()))
+      throw InputError(where() + ": material index " + std::to_string(el.material) + " out of range");
+    const Vec3 X0 = X[el.n[0]];
+    const Mat3 Xe = Mat3::columns(X[el.n[1]] - X0, X[el.n[2]] - X0, X[el.n[3]] - X0);
+    const double dX = det(Xe);
+    double h = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) h = std::max(h, norm(X[el.n[a]] - X[el.n[b]]));
+    if (!(dX > 1e-12 * h * h * h)) {
+      std::ostringstream o;
+      o << where() << ": reference volume " << dX / 6.0
+        << (dX < 0 ? " is negative (need det[X1-X0, X2-X0, X3-X0] > 0; OrientTets fixes the ordering)"
+                   : " is zero (degenerate tetrahedron)");
+      throw InputError(o.str());
+    }
+    const Mat3 Xi = inverse(Xe);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) el.Xinv[3 * r + c] = Xi(r, c);
+    el.V0 = dX / 6.0;
+    el.inv6V0 = 1.0 / dX;
+  }
+  return d;
+}
+
+ElementData BuildElementData(const TetMesh &mesh, const std::vector<Material> &materials,
+                             const std::vector<int> &material_of_body) {
+  std::vector<int> mat(mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const int b = mesh.body.empty() ? 0 : mesh.body[t];
+    if (b < 0 || b >= static_cast<int>(material_of_body.size()))
+      throw InputError("body " + std::to_string(b) + ", element " + std::to_string(t) + ": no material given for this body");
+    mat[t] = material_of_body[b];
+  }
+  return BuildElementData(mesh.nodes, mesh.tets, materials, mat, mesh.body);
+}
+
+std::int64_t ComputeInternalForces(const ElementData &data, const double *x, const double *v, double *f,
+                                   std::size_t begin, std::size_t end) {
+  end = std::min(end, data.elems.size());
+  const auto &models = MaterialModels();
+  std::int64_t first_bad = -1;
+  const TetElement *E = data.elems.data();
+  std::size_t i = begin;
+  while (i < end) {
+    // Run of elements sharing a material: one tight loop per run.
+    const int m = E[i].material;
+    std::size_t j = i + 1;
+    while (j < end && E[j].material == m) ++j;
+    const MaterialModel &mm = models[data.materials[m].model];
+    const std::int64_t bad =
+        (v ? mm.batch : mm.batch_no_visc)(E + i, i, j - i, data.coeffs[m], x, v, f);
+    if (bad >= 0 && first_bad < 0) first_bad = bad;
+    i = j;
+  }
+  return first_bad;
+}
+
+std::string InversionMessage(const ElementData &data, std::int64_t e, const double *x) {
+  if (e < 0 || e >= static_cast<std::int64_t>(data.elems.size())) return "no inverted element";
+  TetState s;
+  EvaluateTet(data, static_cast<std::size_t>(e), x, nullptr, s);
+  std::ostringstream o;
+  o << "body " << (data.body.empty() ? 0 : data.body[e]) << ", element " << e << ": inverted (det F = " << s.J
+    << " <= 0)";
+  return o.str();
+}
+
+namespace {
+template <class Model>
+int CoreDiag(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, double *T, double *fe,
+             Extra *ex) {
+  return v ? Core<Model, true, true>(el, c, x, v, T, fe, ex) : Core<Model, false, true>(el, c, x, v, T, fe, ex);
+}
+} // namespace
+
+bool EvaluateTet(const ElementData &data, std::size_t e, const double *x, const double *v, TetState &out) {
+  const TetElement &el = data.elems.at(e);
+  const MaterialCoeffs &c = data.coeffs[el.material];
+  double T[6] = {0, 0, 0, 0, 0, 0}, fe[12] = {0};
+  Extra ex{};
+  int st = 0;
+  switch (data.materials[el.material].model) {
+  case kMunjizaCST: st = CoreDiag<MunjizaCSTModel>(el, c, x, v, T, fe, &ex); break;
+  case kNeoHookean: st = CoreDiag<NeoHookeanModel>(el, c, x, v, T, fe, &ex); break;
+  case kSmallStrainLinear: st = CoreDiag<SmallStrainLinearModel>(el, c, x, v, T, fe, &ex); break;
+  default: throw InputError(MatName(data.materials[el.material]) + ": EvaluateTet does not know this model");
+  }
+  out = TetState{};
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) out.F(r, cc) = ex.F[3 * r + cc], out.L(r, cc) = ex.L[3 * r + cc];
+  const int idx[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) out.D(r, cc) = ex.D[idx[r][cc]], out.T(r, cc) = T[idx[r][cc]];
+  out.J = ex.J;
+  for (int a = 0; a < 4; ++a) out.force[a] = {fe[3 * a], fe[3 * a + 1], fe[3 * a + 2]};
+  if (st == 1) {
+    out.T = Mat3{};
+    out.force = {};
+    return false;
+  }
+  return st == 0;
+}
+
+Mat3 CauchyStress(const Material &m, const Mat3 &F, const Mat3 &L) {
+  const MaterialCoeffs c = MakeCoeffs(m);
+  double Fa[9], D[6], T[6];
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) Fa[3 * r + cc] = F(r, cc);
+  D[0] = L(0, 0), D[1] = L(1, 1), D[2] = L(2, 2);
+  D[3] = 0.5 * (L(0, 1) + L(1, 0)), D[4] = 0.5 * (L(1, 2) + L(2, 1)), D[5] = 0.5 * (L(0, 2) + L(2, 0));
+  const double J = det(F);
+  if (!(J > 0) && !MaterialModels()[m.model].small_strain)
+    throw InputError(MatName(m) + ": CauchyStress needs det F > 0");
+  MaterialModels()[m.model].stress(c, Fa, J, D, T);
+  Mat3 S;
+  const int idx[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) S(r, cc) = T[idx[r][cc]];
+  return S;
+}
+
+std::vector<double> NodalMasses(const ElementData &data, std::size_t n_nodes) {
+  std::vector<double> m(n_nodes, 0.0);
+  for (const auto &el : data.elems) {
+    const double q = data.materials[el.material].rho * el.V0 / 4.0;
+    for (int a = 0; a < 4; ++a) m.at(el.n[a]) += q;
+  }
+  return m;
+}
+
+} // namespace fdem::kernels
