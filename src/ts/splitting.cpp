@@ -6,6 +6,8 @@
 // the first of the next (first-same-as-last) while the solution is untouched.
 #include "fdemts.hpp"
 
+#include <fdem/kernels/schemes.hpp>
+
 #include <cmath>
 #include <string>
 #include <deque>
@@ -225,30 +227,8 @@ PetscErrorCode Add(const char *name, const char *desc, PetscInt order, const cha
 
 PetscErrorCode RegisterSplittingTypes() {
   PetscFunctionBegin;
-
-  // Munjiza's central difference (5.12-5.13) with the velocity reported at the
-  // step (v_{n+1/2} = v_n + a_n h/2): kick-drift-kick, one force per step.
-  PetscCall(Add(TSFDEMCD, "central difference (Munjiza 5.12-5.13), synchronised velocities", 2, "KDK", {0.5, 1, 0.5}, {}, 2.0, 2.0));
-  PetscCall(Add(TSFDEMPV, "position Verlet / leap-frog (5.101)", 2, "DKD", {0.5, 1, 0.5}, {}, 2.0, 2.0));
-  {
-    const PetscReal r = std::cbrt(36 + 2 * std::sqrt(326.0));
-    const PetscReal l = 0.5 - r / 12 + 1 / (6 * r); // 0.19318332750378...
-    PetscCall(Add(TSFDEMOMF30, "Omelyan-Mryglod-Folk OMF30 (5.112), 2nd order, 2 forces", 2, "KDKDK", {l, 0.5, 1 - 2 * l, 0.5, l}, {}, 2.5533, 2.5));
-  }
-  PetscCall(Add(TSFDEMCHIN, "Chin's force-gradient scheme (5.111), 4th order", 4, "KDKDK", {1.0 / 6, 0.5, 2.0 / 3, 0.5, 1.0 / 6}, {0, 0, 1.0 / 72, 0, 0}, 2 * std::sqrt(3.0), 3.05));
-  {
-    const PetscReal l = (std::cbrt(2.0) + 1 / std::cbrt(2.0) - 1) / 6; // (5.115)
-    PetscCall(Add(TSFDEMFR, "Forest & Ruth (5.114-5.115), 4th order", 4, "KDKDKDK", {l + 0.5, 2 * l + 1, -l, -4 * l - 1, -l, 2 * l + 1, l + 0.5}, {}, 1.5734, 1.572));
-  }
-  {
-    const PetscReal xi = 0.1786178958448091, l = -0.2123418310626054, chi = -0.06626458266981849;
-    PetscCall(Add(TSFDEMPEFRL, "Omelyan-Mryglod-Folk PEFRL, 4th order, 4 forces", 4, "DKDKDKDKD", {xi, (1 - 2 * l) / 2, chi, l, 1 - 2 * (chi + xi), l, chi, (1 - 2 * l) / 2, xi}, {}, 2.990, 0));
-  }
-  {
-    const PetscReal rho = 0.6419108866816235e-01, theta = 0.1919807940455741e+00, vth = 0.1518179640276466e+00, lam = 0.2158369476787619e+00, xi = 0.9628905212024874e-03;
-    const PetscReal dm = (1 - 2 * (theta + rho)) / 2, km = 1 - 2 * (lam + vth);
-    PetscCall(Add(TSFDEMOMF32, "Omelyan-Mryglod-Folk OMF32 (5.113), 4th order force-gradient", 4, "DKDKDKDKDKD", {rho, vth, theta, lam, dm, km, dm, lam, theta, vth, rho}, {0, 0, 0, xi, 0, 0, 0, xi, 0, 0, 0}, 3.122, 3.111));
-  }
+  for (const auto &tab : fdem::kernels::BuiltinSplittingTables())
+    PetscCall(Add(tab.name, tab.description, tab.order, tab.ops.c_str(), tab.coef, tab.grad, tab.kcrit, tab.kcrit_book));
   PetscFunctionReturn(0);
 }
 

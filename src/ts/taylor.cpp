@@ -248,7 +248,7 @@ PetscErrorCode TSCreate_Taylor(TS ts) {
 PetscErrorCode RegisterTaylorTypes() {
   PetscFunctionBegin;
   FDEMSchemeInfo t112{TSFDEMT112, "Taylor-type T-1/12 (5.102-5.103)", 3, 1, 1, 1, std::sqrt(6.0), 2.450};
-  FDEMSchemeInfo t16{TSFDEMT16, "Taylor-type T-1/6 (5.104-5.105)", 3, 1, 1, 2, 2.2828, 2.280};
+  FDEMSchemeInfo t16{TSFDEMT16, "Taylor-type T-1/6 (5.104-5.105)", 3, 1, 1, 2, 2.282783, 2.280};
   FDEMSchemeInfo d112{TSFDEMD112, "Taylor-type D-1/12 (5.106-5.107)", 3, 1, 1, 1, std::sqrt(6.0), 2.450};
   PetscCall(RegisterSchemeInfo(t112));
   PetscCall(RegisterSchemeInfo(t16));
