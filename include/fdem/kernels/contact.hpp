@@ -1,0 +1,62 @@
+// Munjiza's potential contact force between two 4-node tetrahedra
+// (book section 2.6, SPEC.md C.2-C.4), and a simple contact damping and
+// friction model on top of it. Pure numerics; see doc/contact.md.
+#pragma once
+#include <array>
+
+#include "fdem/kernels/vec3.hpp"
+
+namespace fdem::kernels {
+
+using Tet4 = std::array<Vec3, 4>;
+
+// Potential of a tetrahedron (eq 2.36 with V_ijkl the sub-tetrahedron):
+//   phi(p) = penalty * min_i lambda_i(p)   inside, 0 on the surface,
+// penalty/4 at the centroid; lambda_i are the barycentric coordinates.
+// The penalty is a modulus (Pa): a face pushed a depth d into a tetrahedron
+// whose height over the penetrated face is H feels a pressure ~ penalty * d / H.
+//
+// The pair force is taken "in both directions": b's potential pushes a's
+// faces that lie inside b, and a's potential pushes b's faces inside a:
+//   f_a = -int_{a cap b} grad phi_b dV + int_{a cap b} grad phi_a dV,  f_b = -f_a.
+struct TetPairContact {
+  std::array<Vec3, 4> fa{}, fb{}; // nodal forces on a and on b
+  double energy = 0;  // int_{a cap b} (phi_a + phi_b) dV; f = -grad(energy) for rigid motions
+  double area = 0;    // half the total area of the clipped face polygons (~ contact area)
+  double weight = 0;  // int phi dS over those polygons (= sum over both directions)
+  Vec3 point{};       // phi-weighted centroid of the polygons; lies in a cap b
+  bool overlap = false;
+};
+
+// Full result. Either orientation of a and b is accepted. Throws InputError
+// for a degenerate (zero-volume) or non-finite tetrahedron and for a
+// negative or non-finite penalty. Returns out.overlap: true when the
+// tetrahedra overlap in a set of positive volume (then energy > 0).
+bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out);
+
+// Nodal forces only (overwritten, not accumulated).
+bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, std::array<Vec3, 4> &fa,
+                           std::array<Vec3, 4> &fb);
+
+// Dissipative contact parameters (doc/contact.md).
+struct ContactDissipation {
+  double normal_damping = 0;       // c_n, Pa s/m: damping pressure per unit normal approach speed
+  double friction = 0;             // Coulomb coefficient mu
+  double tangential_viscosity = 0; // c_t, Pa s/m: regularises stick (viscous below the Coulomb limit)
+};
+
+// Damping and friction forces of a pair whose potential contact force is
+// `contact` (from PotentialContactForce at the same positions); va, vb are
+// nodal velocities. With n the direction of the potential force on a,
+// A = contact.area, x_c = contact.point, v = v_a(x_c) - v_b(x_c) (linear
+// interpolation in each tetrahedron), v_n = v.n, v_t = v - v_n n:
+//   F_n = max(-c_n A v_n, -|F_pot|)            (never turns the contact adhesive)
+//   F_t = -min(mu (|F_pot| + F_n), c_t A |v_t|) v_t/|v_t|
+// and F = F_n n + F_t acts on a at x_c, -F on b at x_c, spread by each
+// tetrahedron's linear shape functions. Overwrites fa, fb (zero when there is
+// no contact or no defined normal). Throws InputError on negative parameters.
+void ContactDampingFriction(const Tet4 &a, const Tet4 &b, const std::array<Vec3, 4> &va,
+                            const std::array<Vec3, 4> &vb, const TetPairContact &contact,
+                            const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb);
+
+} // namespace fdem::kernels

@@ -1,0 +1,289 @@
+// Munjiza's potential contact force between two tetrahedra (book 2.6,
+// eqs 2.35-2.55; SPEC.md C.2-C.4). Written from the equations, see
+// doc/contact.md for the derivation of every weight used here.
+#include "fdem/kernels/contact.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "fdem/kernels/error.hpp"
+
+namespace fdem::kernels {
+namespace {
+
+// Barycentric coordinates closer to zero than this are taken as exactly zero,
+// so that touching and coincident faces give exactly zero force.
+constexpr double kSnap = 1e-13;
+
+// The three vertices of the face opposite vertex k (orientation is fixed later).
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// A tetrahedron's barycentric coordinates as affine functions:
+// lambda_k(p) = g[k].(p - o) + (k == 0).
+struct Frame {
+  Vec3 o;
+  Vec3 g[4];
+  Vec3 centroid;
+  double vol = 0; // |V|
+};
+
+void MakeFrame(const Tet4 &t, const char *name, Frame &f) {
+  const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[3] - t[0];
+  const Vec3 c23 = cross(e2, e3), c31 = cross(e3, e1), c12 = cross(e1, e2);
+  const double d = dot(e1, c23); // 6 V, signed
+  const double s = dot(e1, e1) * dot(e2, e2) * dot(e3, e3);
+  if (!std::isfinite(d) || !std::isfinite(s))
+    throw InputError(std::string("PotentialContactForce: tetrahedron ") + name + " has non-finite coordinates");
+  if (!(d * d > 1e-24 * s))
+    throw InputError(std::string("PotentialContactForce: tetrahedron ") + name +
+                     " is degenerate (zero volume relative to its edge lengths)");
+  const double inv = 1.0 / d;
+  f.o = t[0];
+  f.g[1] = inv * c23;
+  f.g[2] = inv * c31;
+  f.g[3] = inv * c12;
+  f.g[0] = -(f.g[1] + f.g[2] + f.g[3]);
+  f.centroid = 0.25 * (t[0] + t[1] + t[2] + t[3]);
+  f.vol = std::fabs(d) / 6.0;
+}
+
+inline void Barycentric(const Frame &f, const Vec3 &p, double lam[4]) {
+  const Vec3 r = p - f.o;
+  lam[1] = dot(f.g[1], r);
+  lam[2] = dot(f.g[2], r);
+  lam[3] = dot(f.g[3], r);
+  lam[0] = 1.0 - lam[1] - lam[2] - lam[3];
+}
+
+// A polygon vertex carries the values of the linear functions it needs:
+// n[0..2] the target sub-tetrahedron's shape functions of its base nodes,
+// n[3] that of the centroid (so phi = penalty/4 * n[3]), and l[0..2] the
+// contactor face's shape functions. Positions are never needed.
+struct PV {
+  double n[4];
+  double l[3];
+};
+
+// Sutherland-Hodgman clip of a convex polygon to n[k] >= 0.
+inline int Clip(const PV *in, int nin, PV *out, int k) {
+  int nout = 0;
+  for (int i = 0; i < nin; ++i) {
+    const PV &p = in[i];
+    const PV &q = in[i + 1 == nin ? 0 : i + 1];
+    const double dp = p.n[k], dq = q.n[k];
+    const bool pin = dp >= 0, qin = dq >= 0;
+    if (pin) out[nout++] = p;
+    if (pin != qin) {
+      const double s = dp / (dp - dq);
+      PV &r = out[nout++];
+      for (int j = 0; j < 4; ++j) r.n[j] = p.n[j] + s * (q.n[j] - p.n[j]);
+      for (int j = 0; j < 3; ++j) r.l[j] = p.l[j] + s * (q.l[j] - p.l[j]);
+      r.n[k] = 0.0;
+    }
+  }
+  return nout;
+}
+
+struct PassResult {
+  double energy = 0;   // polygon part of int phi_t dV over c cap t
+  double volume3 = 0;  // polygon part of 3 * volume(c cap t)
+  double frac[4] = {}; // area fraction of each contactor face lying inside t
+  double area = 0;     // total polygon area
+  double weight = 0;   // int phi_t dS over the polygons
+  Vec3 moment{};       // int phi_t x dS over the polygons
+};
+
+// One direction: the faces of contactor c inside target t, pushed by t's
+// potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
+void Pass(const Tet4 &c, const Tet4 &t, const Frame &tf, double eps, std::array<Vec3, 4> &fc,
+          std::array<Vec3, 4> &ft, PassResult &r) {
+  double lam[4][4]; // lam[v][k]: lambda_k of t at contactor vertex v
+  for (int v = 0; v < 4; ++v) {
+    Barycentric(tf, c[v], lam[v]);
+    for (int k = 0; k < 4; ++k)
+      if (std::fabs(lam[v][k]) < kSnap) lam[v][k] = 0.0;
+  }
+  // A face plane of t with all of c strictly outside: no overlap at all.
+  for (int k = 0; k < 4; ++k)
+    if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
+
+  const double s = 0.25 * eps; // phi = s * N_centroid on every sub-tetrahedron
+  PV bufA[48], bufB[48];
+  for (int f = 0; f < 4; ++f) {
+    const int *fv = kFace[f];
+    // Skip a face with all three nodes strictly outside one face plane of t.
+    bool out = false;
+    for (int k = 0; k < 4 && !out; ++k) out = lam[fv[0]][k] < 0 && lam[fv[1]][k] < 0 && lam[fv[2]][k] < 0;
+    if (out) continue;
+
+    Vec3 av = 0.5 * cross(c[fv[1]] - c[fv[0]], c[fv[2]] - c[fv[0]]); // area vector, made outward
+    if (dot(c[f] - c[fv[0]], av) > 0) av = -av;
+    const double dA = dot(c[fv[0]] - tf.centroid, av); // (distance of face plane from t's centroid) * area
+
+    double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
+    for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
+      const int *tv = kFace[o];
+      PV *poly = bufA;
+      for (int m = 0; m < 3; ++m) {
+        const double *lv = lam[fv[m]];
+        const double lo = lv[o];
+        poly[m].n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
+        poly[m].n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
+        poly[m].n[2] = lv[tv[2]] - lo;
+        poly[m].n[3] = 4.0 * lo;
+        poly[m].l[0] = m == 0;
+        poly[m].l[1] = m == 1;
+        poly[m].l[2] = m == 2;
+      }
+      bool skip = false, allin = true;
+      for (int k = 0; k < 4; ++k) {
+        const double a0 = poly[0].n[k], a1 = poly[1].n[k], a2 = poly[2].n[k];
+        if (a0 < 0 && a1 < 0 && a2 < 0) { skip = true; break; }
+        if (a0 < 0 || a1 < 0 || a2 < 0) allin = false;
+      }
+      if (skip) continue;
+      // Polygon in the base plane of t with the same outward normal: its
+      // energy/volume share is counted once, from t's side (doc/contact.md).
+      const bool on_base = poly[0].n[3] == 0 && poly[1].n[3] == 0 && poly[2].n[3] == 0 && dA > 0;
+      int np = 3;
+      if (!allin) {
+        PV *other = bufB;
+        for (int k = 0; k < 4 && np > 0; ++k) {
+          np = Clip(poly, np, other, k);
+          PV *tmp = poly; poly = other; other = tmp;
+        }
+        if (np < 3) continue;
+      }
+      // Exact integrals of products of linear functions over a fan of
+      // triangles: int_T f g = A/12 (sum f_i g_i + sum f_i sum g_i).
+      double D = 0, mN[4] = {0, 0, 0, 0}, mL[3] = {0, 0, 0};
+      const PV &p0 = poly[0];
+      for (int q = 1; q + 1 < np; ++q) {
+        const PV &p1 = poly[q], &p2 = poly[q + 1];
+        const double det = p0.l[0] * (p1.l[1] * p2.l[2] - p1.l[2] * p2.l[1]) -
+                           p0.l[1] * (p1.l[0] * p2.l[2] - p1.l[2] * p2.l[0]) +
+                           p0.l[2] * (p1.l[0] * p2.l[1] - p1.l[1] * p2.l[0]); // area / face area
+        const double c0 = p0.n[3], c1 = p1.n[3], c2 = p2.n[3], sc = c0 + c1 + c2;
+        D += det;
+        for (int j = 0; j < 4; ++j)
+          mN[j] += det * (c0 * p0.n[j] + c1 * p1.n[j] + c2 * p2.n[j] + sc * (p0.n[j] + p1.n[j] + p2.n[j]));
+        for (int j = 0; j < 3; ++j)
+          mL[j] += det * (c0 * p0.l[j] + c1 * p1.l[j] + c2 * p2.l[j] + sc * (p0.l[j] + p1.l[j] + p2.l[j]));
+      }
+      constexpr double k12 = 1.0 / 12.0;
+      for (double &x : mN) x *= k12;
+      for (double &x : mL) x *= k12;
+      wT[tv[0]] += mN[0];
+      wT[tv[1]] += mN[1];
+      wT[tv[2]] += mN[2];
+      const double cq = 0.25 * mN[3]; // the centroid's share, 1/4 to each node
+      for (double &w : wT) w += cq;
+      wC[0] += mL[0];
+      wC[1] += mL[1];
+      wC[2] += mL[2];
+      frac += D;
+      if (!on_base) {
+        // int_{c cap t_o} phi dV = 1/4 oint (x - centroid).n (phi + eps/12) dS; the
+        // sub-tetrahedron's side faces pass through the centroid and drop out.
+        en += dA * (s * (mL[0] + mL[1] + mL[2]) + eps * k12 * D);
+        vol3 += dA * D;
+      }
+    }
+    if (frac == 0) continue;
+    for (int k = 0; k < 4; ++k) ft[k] += (s * wT[k]) * av;
+    for (int m = 0; m < 3; ++m) fc[fv[m]] -= (s * wC[m]) * av;
+    const double af = norm(av);
+    const double phiS = s * af * (wC[0] + wC[1] + wC[2]);
+    r.energy += 0.25 * en;
+    r.volume3 += vol3;
+    r.frac[f] = frac;
+    r.area += af * frac;
+    r.weight += phiS;
+    r.moment += (s * af) * (wC[0] * c[fv[0]] + wC[1] * c[fv[1]] + wC[2] * c[fv[2]]);
+  }
+}
+
+void CheckPenalty(double p, const char *name) {
+  if (!(p >= 0) || !std::isfinite(p))
+    throw InputError(std::string("PotentialContactForce: penalty_") + name +
+                     " must be finite and >= 0, got " + std::to_string(p));
+}
+
+} // namespace
+
+bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out) {
+  CheckPenalty(penalty_a, "a");
+  CheckPenalty(penalty_b, "b");
+  Frame fa, fb;
+  MakeFrame(a, "a", fa);
+  MakeFrame(b, "b", fb);
+  for (auto &v : out.fa) v = Vec3{};
+  for (auto &v : out.fb) v = Vec3{};
+  PassResult ab, ba;
+  Pass(a, b, fb, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
+  Pass(b, a, fa, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
+  // Base-face terms of the divergence-theorem integrals (doc/contact.md):
+  // sub-tetrahedron o of t contributes 1/4 h_o (eps/12) |face_o inside c|,
+  // with h_o |face_o| = 3 |V_t| / 4.
+  const double fa_in_b = ab.frac[0] + ab.frac[1] + ab.frac[2] + ab.frac[3];
+  const double fb_in_a = ba.frac[0] + ba.frac[1] + ba.frac[2] + ba.frac[3];
+  out.energy = ab.energy + ba.energy + (penalty_b * fb.vol * fb_in_a + penalty_a * fa.vol * fa_in_b) / 64.0;
+  const double volume = (ab.volume3 + 0.75 * fb.vol * fb_in_a) / 3.0;
+  out.area = 0.5 * (ab.area + ba.area);
+  out.weight = ab.weight + ba.weight;
+  out.point = out.weight > 0 ? (1.0 / out.weight) * (ab.moment + ba.moment) : Vec3{};
+  const double vmin = fa.vol < fb.vol ? fa.vol : fb.vol;
+  out.overlap = out.weight > 0 || volume > 1e-12 * vmin;
+  return out.overlap;
+}
+
+bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, std::array<Vec3, 4> &fa,
+                           std::array<Vec3, 4> &fb) {
+  TetPairContact c;
+  const bool hit = PotentialContactForce(a, b, penalty_a, penalty_b, c);
+  fa = c.fa;
+  fb = c.fb;
+  return hit;
+}
+
+void ContactDampingFriction(const Tet4 &a, const Tet4 &b, const std::array<Vec3, 4> &va,
+                            const std::array<Vec3, 4> &vb, const TetPairContact &contact,
+                            const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb) {
+  if (!(param.normal_damping >= 0) || !(param.friction >= 0) || !(param.tangential_viscosity >= 0) ||
+      !std::isfinite(param.normal_damping) || !std::isfinite(param.friction) ||
+      !std::isfinite(param.tangential_viscosity))
+    throw InputError("ContactDampingFriction: normal_damping, friction and tangential_viscosity must be finite and >= 0");
+  for (auto &v : fa) v = Vec3{};
+  for (auto &v : fb) v = Vec3{};
+  if (!contact.overlap || !(contact.weight > 0)) return;
+  const Vec3 F = contact.fa[0] + contact.fa[1] + contact.fa[2] + contact.fa[3];
+  const double Fmag = norm(F);
+  if (!(Fmag > 0)) return;
+  const Vec3 n = (1.0 / Fmag) * F;
+  Frame ta, tb;
+  MakeFrame(a, "a", ta);
+  MakeFrame(b, "b", tb);
+  double la[4], lb[4];
+  Barycentric(ta, contact.point, la);
+  Barycentric(tb, contact.point, lb);
+  Vec3 v{};
+  for (int k = 0; k < 4; ++k) v += la[k] * va[k] - lb[k] * vb[k];
+  const double vn = dot(v, n);
+  const Vec3 vt = v - vn * n;
+  const double A = contact.area;
+  double Fn = -param.normal_damping * A * vn;
+  if (Fn < -Fmag) Fn = -Fmag; // damping never makes the contact adhesive
+  Vec3 Fd = Fn * n;
+  const double vtm = norm(vt);
+  if (vtm > 0) {
+    const double coulomb = param.friction * (Fmag + Fn);
+    const double visc = param.tangential_viscosity * A * vtm;
+    Fd -= ((coulomb < visc ? coulomb : visc) / vtm) * vt;
+  }
+  for (int k = 0; k < 4; ++k) {
+    fa[k] = la[k] * Fd;
+    fb[k] = -lb[k] * Fd;
+  }
+}
+
+} // namespace fdem::kernels
