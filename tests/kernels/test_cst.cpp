@@ -209,7 +209,9 @@ TEST(CST, PatchGeneralDeformationAllModels) {
       std::vector<double> f(x.size(), 0.0);
       ComputeInternalForces(d, x.data(), nullptr, f.data());
       for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
-        if (Interior(mesh.nodes[i])) EXPECT_LT(norm(At(f, static_cast<int>(i))), 1e-10);
+        if (Interior(mesh.nodes[i])) {
+          EXPECT_LT(norm(At(f, static_cast<int>(i))), 1e-10);
+        }
       const Mat3 eps = 0.5 * (F + transpose(F)) - Mat3::identity();
       EXPECT_LT(MaxAbs(T - Hooke(mat, eps)), 1e-14);
       continue;
@@ -232,7 +234,9 @@ TEST(CST, SmallStrainLimitIsHookesLaw) {
         const Mat3 H = Hooke(mat, eps);
         const double err = MaxAbs(CauchyStress(mat, Mat3::identity() + eps) - H) / MaxAbs(H);
         EXPECT_LT(err, 5 * d) << "model " << model << " nu " << nu;
-        if (prev > 0) EXPECT_NEAR(prev / err, 2.0, 0.2) << "relative error must be O(d)";
+        if (prev > 0) {
+          EXPECT_NEAR(prev / err, 2.0, 0.2) << "relative error must be O(d)";
+        }
         prev = err;
       }
     }
@@ -362,21 +366,22 @@ TEST(CST, InvertedElementReportedById) {
   const int node = 21;
   ASSERT_TRUE(Interior(mesh.nodes[node]));
   x[3 * node] += 0.9;
-  std::int64_t first = -1;
+  std::int64_t first = -1, second = -1;
   int n_inv = 0;
   for (std::size_t e = 0; e < d.size(); ++e) {
     TetState s;
     if (!EvaluateTet(d, e, x.data(), nullptr, s)) {
       EXPECT_LE(s.J, 0.0);
+      if (first >= 0 && second < 0) second = static_cast<std::int64_t>(e);
       if (first < 0) first = static_cast<std::int64_t>(e);
       ++n_inv;
     }
   }
   ASSERT_GE(first, 0);
-  EXPECT_GT(n_inv, 0);
+  EXPECT_GT(n_inv, 1);
   std::vector<double> f(x.size(), 0.0);
   EXPECT_EQ(ComputeInternalForces(d, x.data(), nullptr, f.data()), first);
-  EXPECT_EQ(ComputeInternalForces(d, x.data(), nullptr, f.data(), first + 1, d.size()) > first, true);
+  EXPECT_EQ(ComputeInternalForces(d, x.data(), nullptr, f.data(), first + 1, d.size()), second);
   for (double q : f) EXPECT_TRUE(std::isfinite(q));
   const std::string msg = InversionMessage(d, first, x.data());
   EXPECT_NE(msg.find("element " + std::to_string(first)), std::string::npos) << msg;
