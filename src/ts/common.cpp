@@ -225,7 +225,7 @@ PetscErrorCode CommonView(TS ts, Common *c, PetscViewer viewer) {
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
   if (!iascii) PetscFunctionReturn(0);
   PetscCall(PetscViewerASCIIPrintf(viewer, "  fdem scheme %s: %s\n", c->info.name, c->info.description));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  order %" PetscInt_FMT ", %" PetscInt_FMT " force stages, %g force evaluations per step", c->info.order, c->info.stages, (double)c->info.evals));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  order %" PetscInt_FMT ", %" PetscInt_FMT " force stages, %" PetscInt_FMT " force evaluations per step", c->info.order, c->info.stages, (PetscInt)c->info.evals));
   if (c->uses_gradient) PetscCall(PetscViewerASCIIPrintf(viewer, " + %" PetscInt_FMT " gradient terms per step, formed by: %s\n", c->info.gradients, FDEMGradientTypes[c->gradient]));
   else PetscCall(PetscViewerASCIIPrintf(viewer, ", no gradient terms\n"));
   if (c->info.kcrit_book > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "  stability limit K_crit = (omega h)_crit = %.4f (book Table 5.2: %.4f)\n", (double)c->info.kcrit, (double)c->info.kcrit_book));
