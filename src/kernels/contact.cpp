@@ -95,7 +95,7 @@ struct PassResult {
 
 // One direction: the faces of contactor c inside target t, pushed by t's
 // potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
-void Pass(const Tet4 &c, const Tet4 &t, const Frame &tf, double eps, std::array<Vec3, 4> &fc,
+void Pass(const Tet4 &c, const Frame &tf, double eps, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
   double lam[4][4]; // lam[v][k]: lambda_k of t at contactor vertex v
   for (int v = 0; v < 4; ++v) {
@@ -220,8 +220,8 @@ bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, doubl
   for (auto &v : out.fa) v = Vec3{};
   for (auto &v : out.fb) v = Vec3{};
   PassResult ab, ba;
-  Pass(a, b, fb, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
-  Pass(b, a, fa, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
+  Pass(a, fb, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
+  Pass(b, fa, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
   // Base-face terms of the divergence-theorem integrals (doc/contact.md):
   // sub-tetrahedron o of t contributes 1/4 h_o (eps/12) |face_o inside c|,
   // with h_o |face_o| = 3 |V_t| / 4.

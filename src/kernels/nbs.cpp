@@ -37,6 +37,7 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   row_y_.clear();
   if (n == 0) {
     row_cell_.push_back(0);
+    cell_start_.push_back(0);
     return;
   }
   double lo[3] = {c[0], c[1], c[2]}, hi[3] = {c[0], c[1], c[2]};
@@ -141,63 +142,89 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   }
   cell_start_.push_back(n);
   row_cell_.push_back(static_cast<int>(cell_x_.size()));
-}
-
-inline void CellSearch::CheckCell(int a, std::vector<std::pair<int, int>> &pairs) const {
-  const int e = cell_start_[a + 1];
-  for (int i = cell_start_[a]; i < e; ++i)
-    for (int j = i + 1; j < e; ++j) {
-      const double s = have_radii_ ? r_[i] + r_[j] : cell_;
-      if (std::fabs(x_[i] - x_[j]) <= s && std::fabs(y_[i] - y_[j]) <= s && std::fabs(z_[i] - z_[j]) <= s)
-        pairs.emplace_back(std::min(id_[i], id_[j]), std::max(id_[i], id_[j]));
-    }
-}
-
-inline void CellSearch::CheckCells(int a, int b, std::vector<std::pair<int, int>> &pairs) const {
-  const int ea = cell_start_[a + 1], eb = cell_start_[b + 1], sb = cell_start_[b];
-  for (int i = cell_start_[a]; i < ea; ++i) {
-    const double xi = x_[i], yi = y_[i], zi = z_[i];
-    const double ri = have_radii_ ? r_[i] : 0.0;
-    for (int j = sb; j < eb; ++j) {
-      const double s = have_radii_ ? ri + r_[j] : cell_;
-      if (std::fabs(xi - x_[j]) <= s && std::fabs(yi - y_[j]) <= s && std::fabs(zi - z_[j]) <= s)
-        pairs.emplace_back(std::min(id_[i], id_[j]), std::max(id_[i], id_[j]));
-    }
-  }
+  cell_x_.push_back(~std::uint64_t(0)); // sentinel, not a cell
 }
 
 void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
-  pairs.clear();
   const int nrows = NumRows();
-  if (nrows <= 0) return;
-  // The book's half mask (3.73) as row offsets (dz, dy); each with x-1..x+1.
-  // The same row contributes the cell itself and (x-1).
+  if (nrows <= 0) {
+    pairs.clear();
+    return;
+  }
+  // The book's half mask (3.73) as row offsets (dz, dy), each with cells
+  // x-1..x+1; the same row contributes the cell itself and cell x-1. Cells of a
+  // row are consecutive in element order, so each mask row is one contiguous
+  // range of elements, scanned with a branch-free test and append.
   constexpr int kDz[4] = {0, -1, -1, -1};
   constexpr int kDy[4] = {-1, -1, 0, 1};
   int ptr[4] = {0, 0, 0, 0};
+  int nb[4], q[4]; // neighbour row of each offset (-1: none) and its cell cursor
+  std::size_t cnt = 0;
+  if (pairs.size() < std::size_t(n_)) pairs.resize(std::size_t(n_));
+  const double *X = x_.data(), *Y = y_.data(), *Z = z_.data(), *R = r_.data();
+  const int *id = id_.data();
+  const double d = cell_;
   for (int r = 0; r < nrows; ++r) {
     const int c0 = row_cell_[r], c1 = row_cell_[r + 1];
-    for (int c = c0; c < c1; ++c) {
-      CheckCell(c, pairs);
-      if (c > c0 && cell_x_[c - 1] + 1 == cell_x_[c]) CheckCells(c, c - 1, pairs);
-    }
-    const std::uint64_t Z = row_z_[r], Y = row_y_[r];
+    const std::uint64_t rz = row_z_[r], ry = row_y_[r];
     for (int k = 0; k < 4; ++k) {
-      if ((kDz[k] < 0 && Z == 0) || (kDy[k] < 0 && Y == 0)) continue;
-      const std::uint64_t tz = Z + kDz[k], ty = Y + kDy[k]; // wraps only for +1 at 2^64-1, impossible here
+      nb[k] = -1;
+      if ((kDz[k] < 0 && rz == 0) || (kDy[k] < 0 && ry == 0)) continue;
+      const std::uint64_t tz = rz + kDz[k], ty = ry + kDy[k];
       int &p = ptr[k];
       while (p < nrows && (row_z_[p] < tz || (row_z_[p] == tz && row_y_[p] < ty))) ++p;
-      if (p == nrows || row_z_[p] != tz || row_y_[p] != ty) continue;
-      // Merge the two rows' cells, both sorted by x.
-      const int n0 = row_cell_[p], n1 = row_cell_[p + 1];
-      int q = n0;
-      for (int c = c0; c < c1; ++c) {
-        const std::uint64_t X = cell_x_[c];
-        while (q < n1 && cell_x_[q] + 1 < X) ++q;
-        for (int m = q; m < n1 && cell_x_[m] <= X + 1; ++m) CheckCells(c, m, pairs);
+      if (p < nrows && row_z_[p] == tz && row_y_[p] == ty) {
+        nb[k] = p;
+        q[k] = row_cell_[p];
+      }
+    }
+    for (int c = c0; c < c1; ++c) {
+      const std::uint64_t cx = cell_x_[c];
+      int rb[5], re[5], nr = 0;
+      if (c > c0 && cell_x_[c - 1] + 1 == cx) {
+        rb[nr] = cell_start_[c - 1];
+        re[nr++] = cell_start_[c];
+      }
+      for (int k = 0; k < 4; ++k) {
+        if (nb[k] < 0) continue;
+        const int n1 = row_cell_[nb[k] + 1];
+        int &m = q[k];
+        while (m < n1 && cell_x_[m] + 1 < cx) ++m;
+        // At most three cells (distinct x) fall in x-1..x+1: branch-free count.
+        // cell_x_ ends with a sentinel, so reading at e == n1 is in bounds.
+        int e = m;
+        e += (e < n1) & (cell_x_[e] <= cx + 1);
+        e += (e < n1) & (cell_x_[e] <= cx + 1);
+        e += (e < n1) & (cell_x_[e] <= cx + 1);
+        if (e > m) {
+          rb[nr] = cell_start_[m];
+          re[nr++] = cell_start_[e];
+        }
+      }
+      const int b = cell_start_[c], e = cell_start_[c + 1];
+      std::size_t most = std::size_t(e - b) * (e - b);
+      for (int k = 0; k < nr; ++k) most += std::size_t(e - b) * (re[k] - rb[k]);
+      if (cnt + most > pairs.size()) pairs.resize(2 * (cnt + most));
+      std::pair<int, int> *out = pairs.data();
+      for (int i = b; i < e; ++i) {
+        const double xi = X[i], yi = Y[i], zi = Z[i];
+        const double ri = have_radii_ ? R[i] : 0.0;
+        const int ii = id[i];
+        auto scan = [&](int j0, int j1) {
+          for (int j = j0; j < j1; ++j) {
+            const double s = have_radii_ ? ri + R[j] : d;
+            const bool hit = (std::fabs(xi - X[j]) <= s) & (std::fabs(yi - Y[j]) <= s) & (std::fabs(zi - Z[j]) <= s);
+            const int jj = id[j];
+            out[cnt] = {ii < jj ? ii : jj, ii < jj ? jj : ii};
+            cnt += hit;
+          }
+        };
+        scan(i + 1, e);
+        for (int k = 0; k < nr; ++k) scan(rb[k], re[k]);
       }
     }
   }
+  pairs.resize(cnt);
 }
 
 } // namespace fdem::kernels

@@ -155,6 +155,8 @@ TEST(CellSearch, SmallAndEmpty) {
   cs.Build(nullptr, nullptr, 0, 1.0);
   cs.FindPairs(p);
   EXPECT_TRUE(p.empty());
+  EXPECT_EQ(cs.NumCells(), 0);
+  EXPECT_EQ(cs.NumRows(), 0);
   const double one[3] = {1, 2, 3};
   cs.Build(one, nullptr, 1, 1.0);
   cs.FindPairs(p);

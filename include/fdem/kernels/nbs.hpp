@@ -30,7 +30,7 @@ public:
   void FindPairs(std::vector<std::pair<int, int>> &pairs) const;
 
   int NumElements() const { return n_; }
-  int NumCells() const { return static_cast<int>(cell_x_.size()); } // non-empty cells
+  int NumCells() const { return static_cast<int>(cell_start_.size()) - 1; } // non-empty cells
   int NumRows() const { return static_cast<int>(row_cell_.size()) - 1; } // non-empty rows
 
 private:
@@ -38,8 +38,6 @@ private:
     std::uint64_t key;
     std::int64_t index;
   };
-  void CheckCells(int a, int b, std::vector<std::pair<int, int>> &pairs) const;
-  void CheckCell(int a, std::vector<std::pair<int, int>> &pairs) const;
 
   int n_ = 0;
   double cell_ = 0;
