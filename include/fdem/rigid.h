@@ -1,0 +1,83 @@
+/* Rigid discrete elements: one DMSwarm point per body (Munjiza ch. 5.2).
+
+   Each body carries: centre of mass x, orientation R (3x3, row-major; its
+   columns are the principal axes in space components, so a_space = R a_body),
+   velocity v, space-frame angular momentum H, mass, principal moments
+   I = (I1, I2, I3), an id, a bounding radius and a contact-skin index.
+
+   In a TS the state of the local bodies is one Vec laid out per rank as
+     [ x (3n) | R (9n) | v (3n) | H (3n) ]
+   with the "position" split = x and R, the "momentum" split = v and H. The
+   momentum RHS returns (F/m, M); the drift of length s moves x += s v and
+   turns R by torque-free motion with H fixed (-fdem_rigid_rotation), the kick
+   of length s adds s F/m to v and the impulse s M to H (eqs 5.74-5.76). */
+#ifndef FDEM_RIGID_H
+#define FDEM_RIGID_H
+
+#include <petscdmswarm.h>
+#include <petscts.h>
+
+#if defined(__cplusplus)
+extern "C" {
+#endif
+
+typedef struct _n_FDEMRigid *FDEMRigid;
+
+typedef enum { FDEM_ROTATION_MUNJIZA = 0, FDEM_ROTATION_NOSQUISH = 1, FDEM_ROTATION_EXACT = 2 } FDEMRotationType;
+PETSC_EXTERN const char *const FDEMRotationTypes[];
+
+/* Force and torque on one body (space frame), added to F and M. */
+typedef PetscErrorCode (*FDEMRigidForceFn)(PetscInt id, PetscReal t, const PetscReal x[3], const PetscReal R[9], const PetscReal v[3], const PetscReal H[3], PetscReal F[3], PetscReal M[3], void *ctx);
+
+PETSC_EXTERN PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *rb);
+PETSC_EXTERN PetscErrorCode FDEMRigidDestroy(FDEMRigid *rb);
+/* -fdem_rigid_rotation munjiza|nosquish|exact, -fdem_rigid_gravity gx,gy,gz */
+PETSC_EXTERN PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb);
+PETSC_EXTERN PetscErrorCode FDEMRigidSetRotationType(FDEMRigid rb, FDEMRotationType type);
+PETSC_EXTERN PetscErrorCode FDEMRigidSetGravity(FDEMRigid rb, const PetscReal g[3]);
+PETSC_EXTERN PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
+/* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body. */
+PETSC_EXTERN PetscErrorCode FDEMRigidSetDomain(FDEMRigid rb, const PetscReal lo[3], const PetscReal hi[3]);
+
+/* Adds a body given by its principal data. Call on every rank with the same
+   arguments: the rank whose slab holds x keeps it. omega is the space-frame
+   angular velocity. *id (may be NULL) gets the body's id. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, PetscReal mass, const PetscReal I[3], const PetscReal x[3], const PetscReal R[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
+/* Adds a body from a closed tetrahedral mesh (its own frame) and a density:
+   mass, centre of mass and principal axes from the geometry. The body is
+   placed so that its mesh frame is turned by Q (row-major; NULL = identity)
+   and its centre of mass sits at x. The mesh is kept as the body's contact skin. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt nnodes, const PetscReal nodes[], PetscInt ntets, const PetscInt tets[], PetscReal density, const PetscReal x[3], const PetscReal Q[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
+
+PETSC_EXTERN PetscErrorCode FDEMRigidGetDM(FDEMRigid rb, DM *swarm);
+PETSC_EXTERN PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *nglobal);
+
+/* Sets the splits, RHS functions and drift on ts, creates the state vector
+   *U from the swarm (copy) and sets it as the TS solution. */
+PETSC_EXTERN PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U);
+/* Copies U back into the swarm and destroys U. */
+PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS ts, Vec *U);
+/* Sends every body to the rank whose slab holds its centre (DMSwarmMigrate). */
+PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
+/* Solves from the current time to tfinal with the TS options of ts's prefix,
+   migrating every `migrate_every` steps (a new TS per segment). */
+PETSC_EXTERN PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, PetscReal dt, PetscInt migrate_every, PetscErrorCode (*monitor)(FDEMRigid, PetscInt, PetscReal, void *), void *mctx);
+
+typedef struct {
+  PetscInt  id;
+  PetscReal mass, I[3], x[3], R[9], v[3], H[3], omega[3], radius;
+  PetscMPIInt rank;
+} FDEMRigidBodyState;
+/* Collective: the state of body id, wherever it lives. */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodyState *st);
+/* Collective: total linear and angular momentum (about the origin) and kinetic energy. */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3], PetscReal L[3], PetscReal *E);
+
+/* HDF5 + XDMF output of the bodies' contact skins (surface triangles moved
+   with the bodies): file base.h5 and base.xmf, one grid per call. */
+PETSC_EXTERN PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step, PetscReal t);
+
+#if defined(__cplusplus)
+}
+#endif
+#endif
