@@ -1,5 +1,5 @@
 // Rigid discrete elements in a DMSwarm; see include/fdem/rigid.h.
-#include <fdem/rigid.h>
+#include "rigid_impl.hpp"
 #include <fdem/ts.h>
 #include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/rotation.hpp>
@@ -13,42 +13,10 @@
 
 using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
+using fdem::model::RigidFields;
+using Skin = fdem::model::Skin;
 
 const char *const FDEMRotationTypes[] = {"munjiza", "nosquish", "exact", "FDEMRotationType", "FDEM_ROTATION_", nullptr};
-
-namespace {
-struct Skin {
-  std::string                     name;
-  std::vector<Vec3>               nodes; // principal (body) frame, centred at the centre of mass
-  std::vector<std::array<int, 3>> faces; // boundary triangles
-  std::vector<std::array<int, 4>> tets;
-};
-struct OutputRecord {
-  PetscInt  step;
-  PetscReal t;
-  PetscInt  nvert, ntri;
-};
-} // namespace
-
-struct _n_FDEMRigid {
-  MPI_Comm          comm;
-  PetscMPIInt       rank = 0, size = 1;
-  DM                sw = nullptr;
-  FDEMRotationType  rotation = FDEM_ROTATION_EXACT;
-  PetscReal         g[3] = {0, 0, 0};
-  FDEMRigidForceFn  force = nullptr;
-  void             *force_ctx = nullptr;
-  PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  int               axis = -1; // slab axis; -1: rank 0 holds everything
-  PetscInt          next_id = 0;
-  std::vector<Skin> skins; // replicated: every rank adds every body
-  // while a TS runs
-  PetscInt               n = 0; // local bodies
-  std::vector<PetscReal> mass, inertia;
-  std::vector<PetscInt>  ids;
-  // output
-  std::vector<OutputRecord> outputs;
-};
 
 namespace {
 
@@ -165,11 +133,9 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
   PetscFunctionReturn(0);
 }
 
-struct Fields {
-  PetscReal *x, *R, *v, *H, *mass, *I, *radius;
-  PetscInt  *id, *skin;
-};
-PetscErrorCode GetFields(DM sw, Fields &f) {
+} // namespace
+
+PetscErrorCode fdem::model::RigidGetFields(DM sw, RigidFields &f) {
   PetscFunctionBegin;
   PetscCall(DMSwarmGetField(sw, "x", nullptr, nullptr, (void **)&f.x));
   PetscCall(DMSwarmGetField(sw, "R", nullptr, nullptr, (void **)&f.R));
@@ -182,7 +148,7 @@ PetscErrorCode GetFields(DM sw, Fields &f) {
   PetscCall(DMSwarmGetField(sw, "skin", nullptr, nullptr, (void **)&f.skin));
   PetscFunctionReturn(0);
 }
-PetscErrorCode RestoreFields(DM sw, Fields &f) {
+PetscErrorCode fdem::model::RigidRestoreFields(DM sw, RigidFields &f) {
   PetscFunctionBegin;
   PetscCall(DMSwarmRestoreField(sw, "x", nullptr, nullptr, (void **)&f.x));
   PetscCall(DMSwarmRestoreField(sw, "R", nullptr, nullptr, (void **)&f.R));
@@ -196,16 +162,17 @@ PetscErrorCode RestoreFields(DM sw, Fields &f) {
   PetscFunctionReturn(0);
 }
 
+namespace {
 PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 &I, const PetscReal x[3], const Mat3 &R, const PetscReal v[3], const PetscReal omega[3], PetscReal radius, PetscInt *id) {
   const PetscInt myid = rb->next_id++;
   PetscFunctionBegin;
   if (id) *id = myid;
   if (OwnerRank(rb, x) != rb->rank) PetscFunctionReturn(0);
   PetscInt n;
-  Fields   f;
+  RigidFields f;
   PetscCall(DMSwarmAddPoint(rb->sw));
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
-  PetscCall(GetFields(rb->sw, f));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
   const PetscInt b = n - 1;
   const Vec3     H = fdem::kernels::AngularMomentum(R, I, Vec3(omega[0], omega[1], omega[2]));
   for (int k = 0; k < 3; ++k) {
@@ -219,7 +186,7 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   f.radius[b] = radius;
   f.id[b]     = myid;
   f.skin[b]   = skin;
-  PetscCall(RestoreFields(rb->sw, f));
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscFunctionReturn(0);
 }
 
@@ -375,7 +342,7 @@ PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *n
 
 PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscInt     n, start;
-  Fields       f;
+  RigidFields f;
   PetscScalar *u;
   IS           isq, isp;
   PetscFunctionBegin;
@@ -384,7 +351,7 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(VecCreateMPI(rb->comm, 18 * n, PETSC_DETERMINE, U));
   PetscCall(PetscObjectSetName((PetscObject)*U, "rigid body state"));
   PetscCall(VecGetOwnershipRange(*U, &start, nullptr));
-  PetscCall(GetFields(rb->sw, f));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
   rb->mass.assign(f.mass, f.mass + n);
   rb->inertia.assign(f.I, f.I + 3 * n);
   rb->ids.assign(f.id, f.id + n);
@@ -396,7 +363,7 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   }
   for (PetscInt i = 0; i < 9 * n; ++i) u[3 * n + i] = f.R[i];
   PetscCall(VecRestoreArray(*U, &u));
-  PetscCall(RestoreFields(rb->sw, f));
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCall(ISCreateStride(rb->comm, 12 * n, start, 1, &isq));
   PetscCall(ISCreateStride(rb->comm, 6 * n, start + 12 * n, 1, &isp));
   PetscCall(TSRHSSplitSetIS(ts, "position", isq));
@@ -411,11 +378,11 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
 }
 
 PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS, Vec *U) {
-  Fields             f;
+  RigidFields f;
   const PetscScalar *u;
   const PetscInt     n = rb->n;
   PetscFunctionBegin;
-  PetscCall(GetFields(rb->sw, f));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
   PetscCall(VecGetArrayRead(*U, &u));
   for (PetscInt i = 0; i < 3 * n; ++i) {
     f.x[i] = u[i];
@@ -424,7 +391,7 @@ PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS, Vec *U) {
   }
   for (PetscInt i = 0; i < 9 * n; ++i) f.R[i] = u[3 * n + i];
   PetscCall(VecRestoreArrayRead(*U, &u));
-  PetscCall(RestoreFields(rb->sw, f));
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCall(VecDestroy(U));
   PetscFunctionReturn(0);
 }
@@ -481,12 +448,12 @@ PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, Pets
 
 PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodyState *st) {
   PetscInt    n;
-  Fields      f;
+  RigidFields f;
   PetscMPIInt owner = -1, gowner;
   PetscReal   buf[1 + 3 + 3 + 9 + 3 + 3 + 3 + 1] = {0};
   PetscFunctionBegin;
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
-  PetscCall(GetFields(rb->sw, f));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
   for (PetscInt b = 0; b < n; ++b) {
     if (f.id[b] != id) continue;
     owner  = rb->rank;
@@ -501,7 +468,7 @@ PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodySta
     for (int i = 0; i < 3; ++i) buf[k++] = w[i];
     buf[k++] = f.radius[b];
   }
-  PetscCall(RestoreFields(rb->sw, f));
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCallMPI(MPI_Allreduce(&owner, &gowner, 1, MPI_INT, MPI_MAX, rb->comm));
   PetscCheck(gowner >= 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "No rigid body with id %" PetscInt_FMT, id);
   PetscCallMPI(MPI_Bcast(buf, (int)(sizeof(buf) / sizeof(buf[0])), MPIU_REAL, gowner, rb->comm));
@@ -521,11 +488,11 @@ PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodySta
 
 PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3], PetscReal L[3], PetscReal *E) {
   PetscInt  n;
-  Fields    f;
+  RigidFields f;
   PetscReal loc[7] = {0}, glob[7];
   PetscFunctionBegin;
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
-  PetscCall(GetFields(rb->sw, f));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
   for (PetscInt b = 0; b < n; ++b) {
     const Vec3 x(f.x[3 * b], f.x[3 * b + 1], f.x[3 * b + 2]), v(f.v[3 * b], f.v[3 * b + 1], f.v[3 * b + 2]), H(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]);
     const Vec3 p = f.mass[b] * v, l = fdem::kernels::cross(x, p) + H;
@@ -535,7 +502,7 @@ PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3], PetscReal L[
     }
     loc[6] += 0.5 * f.mass[b] * dot(v, v) + fdem::kernels::RotationalKineticEnergy(FromRowMajor(&f.R[9 * b]), Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), H);
   }
-  PetscCall(RestoreFields(rb->sw, f));
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCall(MPIU_Allreduce(loc, glob, 7, MPIU_REAL, MPIU_SUM, rb->comm));
   for (int k = 0; k < 3; ++k) {
     if (P) P[k] = glob[k];

@@ -1,0 +1,56 @@
+// Internal: the rigid-body container shared by src/model/rigid*.cpp.
+#pragma once
+#include <fdem/rigid.h>
+#include <fdem/kernels/vec3.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace fdem::model {
+using fdem::kernels::Mat3;
+using fdem::kernels::Vec3;
+struct Skin {
+  std::string                     name;
+  std::vector<Vec3>               nodes; // principal (body) frame, centred at the centre of mass
+  std::vector<std::array<int, 3>> faces; // boundary triangles
+  std::vector<std::array<int, 4>> tets;
+};
+struct OutputRecord {
+  PetscInt  step;
+  PetscReal t;
+  PetscInt  nvert, ntri;
+};
+
+} // namespace fdem::model
+
+struct _n_FDEMRigid {
+  using Skin = fdem::model::Skin;
+  using OutputRecord = fdem::model::OutputRecord;
+  MPI_Comm          comm;
+  PetscMPIInt       rank = 0, size = 1;
+  DM                sw = nullptr;
+  FDEMRotationType  rotation = FDEM_ROTATION_EXACT;
+  PetscReal         g[3] = {0, 0, 0};
+  FDEMRigidForceFn  force = nullptr;
+  void             *force_ctx = nullptr;
+  PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  int               axis = -1; // slab axis; -1: rank 0 holds everything
+  PetscInt          next_id = 0;
+  std::vector<Skin> skins; // replicated: every rank adds every body
+  // while a TS runs
+  PetscInt               n = 0; // local bodies
+  std::vector<PetscReal> mass, inertia;
+  std::vector<PetscInt>  ids;
+  // output
+  std::vector<OutputRecord> outputs;
+};
+
+namespace fdem::model {
+struct RigidFields {
+  PetscReal *x, *R, *v, *H, *mass, *I, *radius;
+  PetscInt  *id, *skin;
+};
+PetscErrorCode RigidGetFields(DM sw, RigidFields &f);
+PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
+} // namespace fdem::model
