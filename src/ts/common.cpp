@@ -225,9 +225,9 @@ PetscErrorCode CommonView(TS ts, Common *c, PetscViewer viewer) {
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
   if (!iascii) PetscFunctionReturn(0);
   PetscCall(PetscViewerASCIIPrintf(viewer, "  fdem scheme %s: %s\n", c->info.name, c->info.description));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  order %" PetscInt_FMT ", %" PetscInt_FMT " force stages, %" PetscInt_FMT " force evaluations per step", c->info.order, c->info.stages, (PetscInt)c->info.evals));
-  if (c->uses_gradient) PetscCall(PetscViewerASCIIPrintf(viewer, " + %" PetscInt_FMT " gradient terms per step, formed by: %s\n", c->info.gradients, FDEMGradientTypes[c->gradient]));
-  else PetscCall(PetscViewerASCIIPrintf(viewer, ", no gradient terms\n"));
+  char grad[160] = ", no gradient terms";
+  if (c->uses_gradient) PetscCall(PetscSNPrintf(grad, sizeof(grad), " + %" PetscInt_FMT " gradient terms per step, formed by: %s", c->info.gradients, FDEMGradientTypes[c->gradient]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  order %" PetscInt_FMT ", %" PetscInt_FMT " force stages, %" PetscInt_FMT " force evaluations per step%s\n", c->info.order, c->info.stages, (PetscInt)c->info.evals, grad));
   if (c->info.kcrit_book > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "  stability limit K_crit = (omega h)_crit = %.4f (book Table 5.2: %.4f)\n", (double)c->info.kcrit, (double)c->info.kcrit_book));
   else PetscCall(PetscViewerASCIIPrintf(viewer, "  stability limit K_crit = (omega h)_crit = %.4f\n", (double)c->info.kcrit));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  momentum RHS evaluations so far: %" PetscInt_FMT "; Inf/NaN check every %" PetscInt_FMT " steps\n", c->nforce, c->check_interval));
