@@ -49,6 +49,8 @@ PETSC_EXTERN PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, Pet
    and its centre of mass sits at x. The mesh is kept as the body's contact skin. */
 PETSC_EXTERN PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt nnodes, const PetscReal nodes[], PetscInt ntets, const PetscInt tets[], PetscReal density, const PetscReal x[3], const PetscReal Q[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
 
+/* Fixes body id in place (walls, floors): forces never move it. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetDM(FDEMRigid rb, DM *swarm);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *nglobal);
 

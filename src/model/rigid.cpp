@@ -98,13 +98,18 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
   PetscFunctionBegin;
   PetscCall(VecGetArrayRead(Q, &q));
   PetscCall(VecGetArray(A, &a));
+  rb->FM.assign(6 * n, 0.0);
+  if (rb->contact_fn) PetscCall(rb->contact_fn(rb, t, q, rb->FM.data(), rb->contact_ctx));
   for (PetscInt b = 0; b < n; ++b) {
-    PetscReal F[3], M[3] = {0, 0, 0};
-    for (int k = 0; k < 3; ++k) F[k] = rb->mass[b] * rb->g[k];
+    PetscReal F[3], M[3];
+    for (int k = 0; k < 3; ++k) {
+      F[k] = rb->mass[b] * rb->g[k] + PetscRealPart(rb->FM[3 * b + k]);
+      M[k] = PetscRealPart(rb->FM[3 * n + 3 * b + k]);
+    }
     if (rb->force) PetscCall(rb->force(rb->ids[b], t, &q[3 * b], &q[3 * n + 9 * b], nullptr, nullptr, F, M, rb->force_ctx));
     for (int k = 0; k < 3; ++k) {
-      a[3 * b + k]         = F[k] / rb->mass[b];
-      a[3 * n + 3 * b + k] = M[k];
+      a[3 * b + k]         = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
+      a[3 * n + 3 * b + k] = rb->fixed[b] ? 0.0 : M[k];
     }
   }
   PetscCall(VecRestoreArray(A, &a));
@@ -122,6 +127,7 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
   const auto kind = Kind(rb->rotation);
   PetscCall(Guard(rb->comm, [&]() -> PetscErrorCode {
     for (PetscInt b = 0; b < n; ++b) {
+      if (rb->fixed[b]) continue;
       PetscScalar *x = &u[3 * b], *R = &u[3 * n + 9 * b], *v = &u[12 * n + 3 * b], *H = &u[15 * n + 3 * b];
       for (int k = 0; k < 3; ++k) x[k] += s * v[k];
       const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
@@ -146,6 +152,7 @@ PetscErrorCode fdem::model::RigidGetFields(DM sw, RigidFields &f) {
   PetscCall(DMSwarmGetField(sw, "radius", nullptr, nullptr, (void **)&f.radius));
   PetscCall(DMSwarmGetField(sw, "id", nullptr, nullptr, (void **)&f.id));
   PetscCall(DMSwarmGetField(sw, "skin", nullptr, nullptr, (void **)&f.skin));
+  PetscCall(DMSwarmGetField(sw, "fixed", nullptr, nullptr, (void **)&f.fixed));
   PetscFunctionReturn(0);
 }
 PetscErrorCode fdem::model::RigidRestoreFields(DM sw, RigidFields &f) {
@@ -159,6 +166,7 @@ PetscErrorCode fdem::model::RigidRestoreFields(DM sw, RigidFields &f) {
   PetscCall(DMSwarmRestoreField(sw, "radius", nullptr, nullptr, (void **)&f.radius));
   PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&f.id));
   PetscCall(DMSwarmRestoreField(sw, "skin", nullptr, nullptr, (void **)&f.skin));
+  PetscCall(DMSwarmRestoreField(sw, "fixed", nullptr, nullptr, (void **)&f.fixed));
   PetscFunctionReturn(0);
 }
 
@@ -186,6 +194,7 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   f.radius[b] = radius;
   f.id[b]     = myid;
   f.skin[b]   = skin;
+  f.fixed[b]  = 0;
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscFunctionReturn(0);
 }
@@ -214,6 +223,7 @@ PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *out) {
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "radius", 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "id", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "skin", 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "fixed", 1, PETSC_INT));
   PetscCall(DMSwarmFinalizeFieldRegister(rb->sw));
   PetscCall(DMSwarmSetLocalSizes(rb->sw, 0, 16));
   *out = rb;
@@ -355,6 +365,7 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   rb->mass.assign(f.mass, f.mass + n);
   rb->inertia.assign(f.I, f.I + 3 * n);
   rb->ids.assign(f.id, f.id + n);
+  rb->fixed.assign(f.fixed, f.fixed + n);
   PetscCall(VecGetArray(*U, &u));
   for (PetscInt i = 0; i < 3 * n; ++i) {
     u[i]          = f.x[i];
@@ -374,6 +385,8 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, rb));
   PetscCall(FDEMTSSetDrift(ts, Drift, rb));
   PetscCall(TSSetSolution(ts, *U));
+  rb->U = *U;
+  if (rb->contact_setup) PetscCall(rb->contact_setup(rb, rb->contact_ctx));
   PetscFunctionReturn(0);
 }
 
@@ -393,6 +406,23 @@ PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS, Vec *U) {
   PetscCall(VecRestoreArrayRead(*U, &u));
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCall(VecDestroy(U));
+  rb->U = nullptr;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id) {
+  PetscInt    n;
+  RigidFields f;
+  PetscFunctionBegin;
+  PetscCheck(id >= 0 && id < rb->next_id, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidFixBody: no body with id %" PetscInt_FMT, id);
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
+  for (PetscInt b = 0; b < n; ++b)
+    if (f.id[b] == id) {
+      f.fixed[b] = 1;
+      for (int k = 0; k < 3; ++k) f.v[3 * b + k] = f.H[3 * b + k] = 0;
+    }
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscFunctionReturn(0);
 }
 

@@ -44,12 +44,20 @@ struct _n_FDEMRigid {
   std::vector<PetscInt>  ids;
   // output
   std::vector<OutputRecord> outputs;
+  // fixed bodies (walls, floors): never moved by forces
+  std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed)
+  Vec                   U = nullptr; // the TS state while a TS runs (borrowed)
+  // contact (src/contact): adds forces and torques of the local bodies, FM = [F (3n) | M (3n)]
+  PetscErrorCode (*contact_fn)(FDEMRigid, PetscReal t, const PetscScalar *q, PetscScalar *FM, void *) = nullptr;
+  PetscErrorCode (*contact_setup)(FDEMRigid, void *) = nullptr; // at FDEMRigidSetUpTS
+  void *contact_ctx = nullptr;
+  std::vector<PetscScalar> FM;
 };
 
 namespace fdem::model {
 struct RigidFields {
   PetscReal *x, *R, *v, *H, *mass, *I, *radius;
-  PetscInt  *id, *skin;
+  PetscInt  *id, *skin, *fixed;
 };
 PetscErrorCode RigidGetFields(DM sw, RigidFields &f);
 PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
