@@ -1,0 +1,179 @@
+// HDF5 + XDMF output of rigid bodies (see include/fdem/rigid.h and doc/rigid.md).
+//
+// Every call writes one group /step_NNNNNN of base.h5 (PetscViewerHDF5, all
+// ranks' local bodies, collective) with
+//   vertices  (Nv x 3) real  : skin nodes moved to the body's pose, x + R p
+//   velocity  (Nv x 3) real  : the rigid velocity of each node, v + omega x (R p)
+//   cells     (Nt x 3) int   : surface triangles, global (0-based) vertex numbers
+//   body_id   (Nt x 1) int   : the id of the body a triangle belongs to
+// and the attribute "time" on the group; then rank 0 rewrites base.xmf, an
+// XDMF temporal collection of every step written so far (rb->outputs), which
+// ParaView opens with its XDMF reader. Bodies without a mesh
+// (FDEMRigidAddBody) are drawn as an octahedron of their bounding radius
+// whose vertices lie on the principal axes, so their orientation shows.
+#include "rigid_impl.hpp"
+#include <fdem/kernels/rotation.hpp>
+
+#include <petscviewerhdf5.h>
+
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using fdem::kernels::Mat3;
+using fdem::kernels::Vec3;
+using Skin = fdem::model::Skin;
+
+namespace {
+
+const Skin &Octahedron() {
+  static const Skin oct = [] {
+    Skin s;
+    s.name  = "octahedron";
+    s.nodes = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+    // outward normals: (b - a) x (c - a) points away from the centre
+    s.faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    return s;
+  }();
+  return oct;
+}
+
+// writes a (n x bs) real array as a Vec named `name` in the current group
+PetscErrorCode WriteReal(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscReal> &a, PetscInt bs) {
+  Vec          V;
+  PetscScalar *p;
+  PetscFunctionBegin;
+  PetscCall(VecCreate(comm, &V));
+  PetscCall(VecSetSizes(V, (PetscInt)a.size(), PETSC_DETERMINE));
+  PetscCall(VecSetBlockSize(V, bs));
+  PetscCall(VecSetType(V, VECSTANDARD));
+  PetscCall(PetscObjectSetName((PetscObject)V, name));
+  PetscCall(VecGetArray(V, &p));
+  for (size_t i = 0; i < a.size(); ++i) p[i] = a[i];
+  PetscCall(VecRestoreArray(V, &p));
+  PetscCall(VecView(V, viewer));
+  PetscCall(VecDestroy(&V));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode WriteInt(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscInt> &a, PetscInt bs) {
+  IS is;
+  PetscFunctionBegin;
+  PetscCall(ISCreateGeneral(comm, (PetscInt)a.size(), a.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(ISSetBlockSize(is, bs));
+  PetscCall(PetscObjectSetName((PetscObject)is, name));
+  PetscCall(ISView(is, viewer));
+  PetscCall(ISDestroy(&is));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode WriteXDMF(FDEMRigid rb, const char *base) {
+  PetscFunctionBegin;
+  if (rb->rank != 0) PetscFunctionReturn(0);
+  const std::string b(base), xmf = b + ".xmf";
+  const size_t      slash = b.find_last_of('/');
+  const std::string h5    = (slash == std::string::npos ? b : b.substr(slash + 1)) + ".h5"; // relative to the .xmf
+  FILE             *fp    = std::fopen(xmf.c_str(), "w");
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "FDEMRigidWriteHDF5: cannot open %s for writing", xmf.c_str());
+  const int ip = (int)sizeof(PetscInt), rp = (int)sizeof(PetscReal);
+  std::fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf xmlns:xi=\"http://www.w3.org/2001/XInclude\" Version=\"2.0\">\n  <Domain>\n");
+  std::fprintf(fp, "    <Grid Name=\"rigid bodies\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+  for (const auto &o : rb->outputs) {
+    char g[64];
+    std::snprintf(g, sizeof(g), "step_%06d", (int)o.step);
+    const long long nv = o.nvert, nt = o.ntri;
+    std::fprintf(fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", g);
+    std::fprintf(fp, "        <Time Value=\"%.17g\"/>\n", (double)o.t);
+    std::fprintf(fp, "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"%lld\">\n", nt);
+    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">%s:/%s/cells</DataItem>\n        </Topology>\n", nt, ip, h5.c_str(), g);
+    std::fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
+    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/%s/vertices</DataItem>\n        </Geometry>\n", nv, rp, h5.c_str(), g);
+    std::fprintf(fp, "        <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n");
+    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/%s/velocity</DataItem>\n        </Attribute>\n", nv, rp, h5.c_str(), g);
+    std::fprintf(fp, "        <Attribute Name=\"body_id\" AttributeType=\"Scalar\" Center=\"Cell\">\n");
+    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 1\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">%s:/%s/body_id</DataItem>\n        </Attribute>\n", nt, ip, h5.c_str(), g);
+    std::fprintf(fp, "      </Grid>\n");
+  }
+  std::fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+  const bool ok = std::fclose(fp) == 0;
+  PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "FDEMRigidWriteHDF5: error writing %s", xmf.c_str());
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step, PetscReal t) {
+  PetscInt                n;
+  fdem::model::RigidFields f;
+  std::vector<PetscReal>  X, V;
+  std::vector<PetscInt>   cells, bid;
+  PetscFunctionBegin;
+  PetscCheck(base && base[0], rb->comm, PETSC_ERR_ARG_NULL, "FDEMRigidWriteHDF5: no file base name");
+  PetscCheck(step >= 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidWriteHDF5: step %" PetscInt_FMT " must be non-negative", step);
+  for (const auto &o : rb->outputs)
+    PetscCheck(o.step != step, rb->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMRigidWriteHDF5: step %" PetscInt_FMT " was already written to %s.h5", step, base);
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
+  // local vertex count first, to number the vertices globally
+  PetscInt nvloc = 0, ntloc = 0;
+  for (PetscInt b = 0; b < n; ++b) {
+    const Skin &s = f.skin[b] >= 0 ? rb->skins[f.skin[b]] : Octahedron();
+    nvloc += (PetscInt)s.nodes.size();
+    ntloc += (PetscInt)s.faces.size();
+  }
+  PetscInt voff = 0;
+  PetscCallMPI(MPI_Exscan(&nvloc, &voff, 1, MPIU_INT, MPI_SUM, rb->comm));
+  if (rb->rank == 0) voff = 0; // MPI_Exscan leaves rank 0's result undefined
+  X.reserve(3 * nvloc);
+  V.reserve(3 * nvloc);
+  cells.reserve(3 * ntloc);
+  bid.reserve(ntloc);
+  PetscInt vnext = voff;
+  for (PetscInt b = 0; b < n; ++b) {
+    const bool  mesh  = f.skin[b] >= 0;
+    const Skin &s     = mesh ? rb->skins[f.skin[b]] : Octahedron();
+    const double scale = mesh ? 1.0 : f.radius[b];
+    Mat3        R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R.m[r][c] = f.R[9 * b + 3 * r + c];
+    const Vec3 x(f.x[3 * b], f.x[3 * b + 1], f.x[3 * b + 2]), v(f.v[3 * b], f.v[3 * b + 1], f.v[3 * b + 2]);
+    const Vec3 w = fdem::kernels::BodyOmega(R, Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), Vec3(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]));
+    for (const Vec3 &p : s.nodes) {
+      const Vec3 r  = R * (scale * p);
+      const Vec3 xp = x + r, vp = v + fdem::kernels::cross(w, r);
+      X.insert(X.end(), {xp[0], xp[1], xp[2]});
+      V.insert(V.end(), {vp[0], vp[1], vp[2]});
+    }
+    for (const auto &tri : s.faces) {
+      cells.insert(cells.end(), {vnext + tri[0], vnext + tri[1], vnext + tri[2]});
+      bid.push_back(f.id[b]);
+    }
+    vnext += (PetscInt)s.nodes.size();
+  }
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
+
+  PetscInt loc[2] = {nvloc, ntloc}, glob[2];
+  PetscCall(MPIU_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, rb->comm));
+  PetscCheck(glob[0] > 0, rb->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMRigidWriteHDF5: there are no bodies to write");
+
+  PetscViewer viewer;
+  char        file[PETSC_MAX_PATH_LEN], group[64];
+  PetscCall(PetscSNPrintf(file, sizeof(file), "%s.h5", base));
+  PetscCall(PetscSNPrintf(group, sizeof(group), "/step_%06d", (int)step));
+  PetscCall(PetscViewerHDF5Open(rb->comm, file, rb->outputs.empty() ? FILE_MODE_WRITE : FILE_MODE_APPEND, &viewer));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+  PetscCall(WriteReal(rb->comm, viewer, "vertices", X, 3));
+  PetscCall(WriteReal(rb->comm, viewer, "velocity", V, 3));
+  PetscCall(WriteInt(rb->comm, viewer, "cells", cells, 3));
+  PetscCall(WriteInt(rb->comm, viewer, "body_id", bid, 1));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "step", PETSC_INT, &step));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(PetscViewerDestroy(&viewer));
+
+  rb->outputs.push_back({step, t, glob[0], glob[1]});
+  PetscCall(WriteXDMF(rb, base));
+  PetscFunctionReturn(0);
+}
