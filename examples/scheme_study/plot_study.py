@@ -75,7 +75,7 @@ def amplification(d):
     half = (len(cells) + 1) // 2
     lines = ["%-22s   %s" % (cells[i], cells[i + half] if i + half < len(cells) else "") for i in range(half)]
     txt = "K_crit: (5.121) from TS runs, exact (spectral radius)\n" + "\n".join(lines)
-    axes[1].text(0.98, 0.02, txt, transform=axes[1].transAxes, va="bottom", ha="right", family="monospace", fontsize=7.5,
+    axes[1].text(0.98, 0.02, txt, transform=axes[1].transAxes, va="bottom", ha="right", multialignment="left", family="monospace", fontsize=7.5,
                  bbox=dict(facecolor="white", alpha=0.9, edgecolor="0.7"))
     fig.suptitle("Fig 5.18: amplification factor vs K, oscillator x'' = -x, x(0)=0, v(0)=1 (fdem TS types)")
     fig.tight_layout()
