@@ -51,7 +51,7 @@ def plot(xkey, xlabel, out):
                       mfc="white", mec=line.get_color())
     ax.set_xlabel(xlabel)
     ax.set_ylabel("error  max_i |x_i(T) - x_ref,i(T)|")
-    ax.set_title("FPU-beta chain, N = %s particles, unequal masses, T = %s: work-precision" % (meta["N"], meta["T"]))
+    ax.set_title("FPU-beta chain, N = %s particles, unequal masses, T = %s: work-precision" % (meta["N"], "%g" % float(meta["T"])))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, ncol=2)
     fig.tight_layout()
