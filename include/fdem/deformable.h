@@ -1,0 +1,156 @@
+/* Deformable discrete elements: 4-node tetrahedral meshes in a distributed
+   DMPlex, constant-strain tetrahedra (Munjiza 2004, section 4.8; kernels in
+   fdem/kernels/cst.hpp), stepped by any fdem TS type. See doc/deformable.md.
+
+   Life cycle
+     FDEMDeformableCreate(comm, &dfm);
+     FDEMDeformableAddMaterial(dfm, "steel", E, nu, rho, mu_visc, FDEM_MATERIAL_MUNJIZA_CST);
+     FDEMDeformableSetMeshBeam(dfm, L, W, H, n);        (or Box, Cylinder, FromGmsh, SetMesh)
+     FDEMDeformableSetBodyMaterial(dfm, "beam", "steel"); (optional, see below)
+     FDEMDeformableSetFromOptions(dfm);
+     FDEMDeformableSetUp(dfm);            METIS partition on rank 0, DMPlex, distribution
+     FDEMDeformableFixNodesInBox(...); FDEMDeformableSetVelocityField(...);
+     FDEMDeformableSetUpTS(dfm, ts, &U);  splits as for -ts_type basicsymplectic
+     TSSolve(ts, U);
+
+   Meshes are given on rank 0 (the arguments of the mesh setters are read on
+   rank 0 only; other ranks may pass empty arrays). Node and element ids are
+   the 0-based positions in that input ("global ids"); they survive the
+   distribution and name nodes and elements in every message and query.
+
+   Materials: a body takes the material named by FDEMDeformableSetBodyMaterial,
+   else the material with the body's name, else the only material if the table
+   has exactly one. A body without a material is an error naming the body and
+   the missing material.
+
+   State for a TS, per rank: U = [ x (3 n) | v (3 n) ] over the n nodes the
+   rank owns (in the order of the DM's global vector), "position" split = x,
+   "momentum" split = v; dx/dt = v, dv/dt = (f_int(x, v) + f_ext) / m + g with
+   f_int assembled from every local cell through DMLocalToGlobal(ADD_VALUES)
+   and m the lumped mass; fixed nodes get dv/dt = 0. The viscous part of f_int
+   reads v from the TS's current solution. */
+#ifndef FDEM_DEFORMABLE_H
+#define FDEM_DEFORMABLE_H
+
+#include <petscdmplex.h>
+#include <petscts.h>
+
+#if defined(__cplusplus)
+extern "C" {
+#endif
+
+typedef struct _n_FDEMDeformable *FDEMDeformable;
+
+/* Constitutive models (doc/element.md): book eq 4.220, compressible
+   neo-Hookean, and the (non-objective) small-strain linear tetrahedron. */
+typedef enum { FDEM_MATERIAL_MUNJIZA_CST = 0, FDEM_MATERIAL_NEO_HOOKEAN = 1, FDEM_MATERIAL_SMALL_STRAIN_LINEAR = 2 } FDEMMaterialModel;
+PETSC_EXTERN const char *const FDEMMaterialModels[];
+
+/* Extra nodal forces (contact, loads): add into floc, a local vector (3 per
+   local node, ghosts included) that is then summed over ranks with
+   DMLocalToGlobal(ADD_VALUES): add each force on one rank only. xloc, vloc:
+   current positions and velocities of the local nodes (vloc may be NULL when
+   no material is viscous). */
+typedef PetscErrorCode (*FDEMDeformableForceFn)(FDEMDeformable dfm, PetscReal t, Vec xloc, Vec vloc, Vec floc, void *ctx);
+/* A nodal field from the reference position X of node `id` (initial velocity or position). */
+typedef PetscErrorCode (*FDEMDeformableFieldFn)(PetscInt id, const PetscReal X[3], PetscReal out[3], void *ctx);
+
+PETSC_EXTERN PetscErrorCode FDEMDeformableCreate(MPI_Comm comm, FDEMDeformable *dfm);
+PETSC_EXTERN PetscErrorCode FDEMDeformableDestroy(FDEMDeformable *dfm);
+
+/* Material table. Checked at once (E > 0, -1 < nu < 0.5, rho > 0, mu_visc >= 0). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddMaterial(FDEMDeformable dfm, const char *name, PetscReal E, PetscReal nu, PetscReal rho, PetscReal mu_visc, FDEMMaterialModel model);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetBodyMaterial(FDEMDeformable dfm, const char *body, const char *material);
+
+/* Meshes (one per object; a later call replaces the earlier). SetMesh: nodes
+   3 per node, tets 4 per tetrahedron with positive volume det[x1-x0, x2-x0,
+   x3-x0] > 0, body per tetrahedron (NULL: all 0) and nbodies names (NULL:
+   "body_<i>"). Generators: box [lo, hi] in nx*ny*nz Kuhn cells (body "box");
+   beam [0,L]x[0,W]x[0,H] with n cells across the smallest side ("beam");
+   cylinder of axis z ("cylinder"). Gmsh: physical volumes or connected
+   components become bodies (fdem::kernels::ReadGmsh). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMesh(FDEMDeformable dfm, PetscInt nnodes, const PetscReal nodes[], PetscInt ntets, const PetscInt tets[], const PetscInt body[], PetscInt nbodies, const char *const body_names[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBox(FDEMDeformable dfm, const PetscReal lo[3], const PetscReal hi[3], PetscInt nx, PetscInt ny, PetscInt nz);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBeam(FDEMDeformable dfm, PetscReal L, PetscReal W, PetscReal H, PetscInt n);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm, PetscReal radius, PetscReal height, PetscInt n_radial, PetscInt n_axial);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, const char *path);
+
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
+/* -fdem_deformable_gravity gx,gy,gz
+   -fdem_deformable_partition metis|simple   (simple: contiguous blocks of elements, for comparison)
+   -fdem_deformable_view                     (prints sizes and the partition balance) */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable dfm);
+
+/* Collective. Validates the mesh and materials on rank 0 (errors name the
+   element, body or material), partitions the elements with METIS
+   (METIS_PartMeshDual, element weights = relative cost of the element's
+   model) into one part per rank, builds the DMPlex with
+   DMPlexCreateFromCellListPetsc, distributes it through PETSCPARTITIONERSHELL,
+   builds each rank's element data from its cells and assembles the lumped
+   masses. Positions start at the reference positions, velocities at 0. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetUp(FDEMDeformable dfm);
+
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetDM(FDEMDeformable dfm, DM *dm);
+/* Local (this rank's) and global counts of cells and nodes (owned nodes for nlocal). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetSizes(FDEMDeformable dfm, PetscInt *cells_local, PetscInt *cells_global, PetscInt *nodes_owned, PetscInt *nodes_global);
+/* Global ids of the owned nodes, in the order of the DM's global vectors (borrowed). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeIds(FDEMDeformable dfm, PetscInt *n, const PetscInt *ids[]);
+/* The DM's global vectors (borrowed; 3 entries per owned node): current
+   positions x, velocities v, reference positions X, lumped masses m (same in
+   all three entries of a node). Changing x or v changes the initial state of
+   the next FDEMDeformableSetUpTS. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetPositions(FDEMDeformable dfm, Vec *x);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetVelocities(FDEMDeformable dfm, Vec *v);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetReferencePositions(FDEMDeformable dfm, Vec *X);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetMasses(FDEMDeformable dfm, Vec *m);
+/* Sets x (or v) of every node from its reference position. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetPositionField(FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetVelocityField(FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
+
+/* Fixed nodes (Dirichlet: their force is zeroed and their velocity set to 0).
+   By global id (any rank may list any id) or every node whose reference
+   position lies in the box [lo, hi]. *nfixed (may be NULL) gets the global
+   number of fixed nodes. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable dfm, PetscInt n, const PetscInt ids[], PetscInt *nfixed);
+PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable dfm, const PetscReal lo[3], const PetscReal hi[3], PetscInt *nfixed);
+
+/* Assembled nodal forces at the state U (a TS state [x | v] from
+   FDEMDeformableSetUpTS, or NULL for the stored x, v): F = f_int + f_ext
+   (no gravity, no division by mass, fixed nodes included), a DM global vector. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable dfm, PetscReal t, Vec U, Vec F);
+/* Cauchy stress of every local cell (xx, yy, zz, xy, yz, xz): *S is created,
+   6 entries per local cell in the order of FDEMDeformableGetCellIds. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableComputeCellStress(FDEMDeformable dfm, Vec U, Vec *S);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetCellIds(FDEMDeformable dfm, PetscInt *n, const PetscInt *ids[]);
+
+/* Sets the splits, the RHS functions and the solution of ts; creates *U from
+   the stored x, v. The TS must not outlive dfm. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable dfm, TS ts, Vec *U);
+/* Copies a state U back into the stored x, v (U is kept). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableRestoreState(FDEMDeformable dfm, Vec U);
+
+/* Collective diagnostics at U (NULL: stored state). Kinetic energy, strain
+   energy (exact potential for neo_hookean and small_strain_linear; for
+   munjiza_cst, which is Cauchy-elastic but not hyperelastic, the neo-Hookean
+   potential with the same G and K, equal to third order in the strain) and
+   gravity potential -sum m g.x. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetEnergy(FDEMDeformable dfm, Vec U, PetscReal *kinetic, PetscReal *strain, PetscReal *gravity);
+/* Total mass, centre of mass, linear momentum and angular momentum about the origin. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetMomentum(FDEMDeformable dfm, Vec U, PetscReal *mass, PetscReal com[3], PetscReal P[3], PetscReal L[3]);
+/* Position and velocity of node `id` (global id), wherever it lives. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeState(FDEMDeformable dfm, Vec U, PetscInt id, PetscReal x[3], PetscReal v[3]);
+/* Smallest det F over all elements and the global id of that element. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetMinJacobian(FDEMDeformable dfm, Vec U, PetscReal *Jmin, PetscInt *element);
+
+/* HDF5 + XDMF output of the deforming mesh at U (NULL: stored state): group
+   /step_NNNNNN of base.h5 with vertices (current positions), displacement,
+   velocity, cells (global vertex numbers), body, rank and stress (per cell);
+   base.xmf (rewritten by rank 0 at each call) is a temporal collection that
+   ParaView opens. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable dfm, Vec U, const char *base, PetscInt step, PetscReal t);
+
+#if defined(__cplusplus)
+}
+#endif
+#endif
