@@ -1165,7 +1165,7 @@ PetscErrorCode WriteXDMF(FDEMDeformable d, const char *base) {
     const long long nv = o.nvert, nc = o.ncell;
     auto attr = [&](const char *name, const char *type, const char *center, long long n, int comps, bool real) {
       char dims[64];
-      if (comps > 1) std::snprintf(dims, sizeof(dims), "%lld %d", n, comps);
+      if (comps > 1 || !real) std::snprintf(dims, sizeof(dims), "%lld %d", n, comps); // ISView writes (n, 1)
       else std::snprintf(dims, sizeof(dims), "%lld", n);
       std::fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", name, type, center);
       std::fprintf(fp, "          <DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:/%s/%s</DataItem>\n        </Attribute>\n", dims, real ? "Float" : "Int", real ? rp : ip, h5.c_str(), g, name);
