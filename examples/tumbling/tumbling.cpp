@@ -2,7 +2,8 @@
 // (convex hulls of random points, ellipsoids, boxes) with random spins and
 // velocities fly through a box split into slabs, one per rank; bodies migrate
 // between ranks as they cross the slab boundaries. Optional gravity. Writes
-// the bodies' skins to HDF5 + XDMF every -write_every steps
+// the bodies' skins to HDF5 + XDMF every -write_every steps (-n_plain adds
+// bodies given by principal data only, drawn as octahedra)
 // (FDEMRigidWriteHDF5) and checks its own result:
 //
 //   no gravity (and no torque):  total linear momentum P and angular momentum
@@ -95,7 +96,7 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt step, PetscReal t, void *ptr) {
 
 int main(int argc, char **argv) {
   Ctx       c;
-  PetscInt  n = 60, seed = 7;
+  PetscInt  n = 60, seed = 7, nplain = 0;
   PetscReal T = 1.0, dt = 0.005, vmax = 3.0, wmax = 6.0;
   PetscReal expect_momentum = 1e-12, expect_energy = 1e-12;
   PetscBool gravity = PETSC_FALSE;
@@ -104,6 +105,7 @@ int main(int argc, char **argv) {
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &c.rank));
   PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Tumbling rigid bodies", "");
   PetscCall(PetscOptionsInt("-n", "number of bodies", "", n, &n, nullptr));
+  PetscCall(PetscOptionsInt("-n_plain", "further bodies from principal data only (no mesh; drawn as octahedra)", "", nplain, &nplain, nullptr));
   PetscCall(PetscOptionsInt("-seed", "random seed", "", seed, &seed, nullptr));
   PetscCall(PetscOptionsReal("-T", "final time", "", T, &T, nullptr));
   PetscCall(PetscOptionsReal("-dt", "time step", "", dt, &dt, nullptr));
@@ -168,6 +170,11 @@ int main(int argc, char **argv) {
     char name[64];
     PetscCall(PetscSNPrintf(name, sizeof(name), "%s%" PetscInt_FMT, kinds[kind], b));
     PetscCall(FDEMRigidAddBodyFromMesh(rb, name, (PetscInt)X.size(), nodes.data(), (PetscInt)Tt.size(), tets.data(), 1000.0, x, Qr, v, w, nullptr));
+  }
+  for (PetscInt b = 0; b < nplain; ++b) {
+    const PetscReal I[3] = {2.0 + 0.4 * U(rng), 3.0 + 0.4 * U(rng), 3.8 + 0.3 * U(rng)} /* I1 + I2 >= 4.2 > 4.1 >= I3 */, x[3] = {1.0 + 17.0 * (0.5 + 0.5 * U(rng)), 2.0 + U(rng), 2.0 + U(rng)};
+    const PetscReal v[3] = {vmax * U(rng), vmax * U(rng), vmax * U(rng)}, w[3] = {wmax * U(rng) / 2, wmax * U(rng) / 2, wmax * U(rng) / 2};
+    PetscCall(FDEMRigidAddBody(rb, "plain", 100.0, I, x, nullptr, v, w, nullptr));
   }
   PetscInt nloc;
   PetscCall(FDEMRigidGetNumBodies(rb, &nloc, &c.nglobal));
