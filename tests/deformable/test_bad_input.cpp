@@ -1,0 +1,114 @@
+// Bad input gives collective errors that name what is wrong (run on 1 and 2
+// ranks: no rank may hang while another fails).
+#include "common.hpp"
+
+#include <cstdio>
+#include <string>
+
+namespace {
+// two tetrahedra sharing a face; the second one given with the wrong orientation or flat
+PetscErrorCode TwoTets(FDEMDeformable d, bool inverted, bool flat) {
+  const PetscReal X[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+  PetscReal       Y[15];
+  for (int i = 0; i < 15; ++i) Y[i] = X[i];
+  if (flat) Y[14] = 0, Y[12] = 0.5, Y[13] = 0.5; // node 4 in the plane z = 0 ... on edge 1-2
+  const PetscInt T[] = {0, 1, 2, 3, 1, 2, 3, 4};
+  PetscInt       T2[8];
+  for (int i = 0; i < 8; ++i) T2[i] = T[i];
+  if (inverted) std::swap(T2[5], T2[6]);
+  if (flat) {
+    T2[4] = 1, T2[5] = 4, T2[6] = 2, T2[7] = 0; // 0, 1, 2, 4 coplanar
+  }
+  const PetscInt    body[] = {0, 1};
+  const char *const names[] = {"anchor", "pebble"};
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableSetMesh(d, 5, flat ? Y : X, 2, T2, body, 2, names));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Fresh(FDEMDeformable *d) {
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableDestroy(d));
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Squeeze(PetscInt, const PetscReal X[3], PetscReal v[3], void *) {
+  for (int k = 0; k < 3; ++k) v[k] = -50.0 * (X[k] - 0.5); // a violent implosion
+  return 0;
+}
+} // namespace
+
+int main(int argc, char **argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscCall(FDEMInitializePackage());
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  FDEMDeformable d = nullptr;
+
+  // an inverted tetrahedron: element 1 of body 'pebble'
+  PetscCall(Fresh(&d));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(TwoTets(d, true, false));
+  PetscCall(ExpectError("inverted tetrahedron", {"element 1", "body 'pebble'", "negative"}, [&]() { return FDEMDeformableSetUp(d); }));
+
+  // a zero-volume tetrahedron
+  PetscCall(Fresh(&d));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(TwoTets(d, false, true));
+  PetscCall(ExpectError("zero-volume tetrahedron", {"element 1", "body 'pebble'", "zero"}, [&]() { return FDEMDeformableSetUp(d); }));
+
+  // a missing material: two materials in the table, neither named 'pebble' nor mapped
+  PetscCall(Fresh(&d));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableAddMaterial(d, "steel", 2e11, 0.3, 7800, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "anchor", "steel"));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "pebble", "basalt"));
+  PetscCall(TwoTets(d, false, false));
+  PetscCall(ExpectError("missing material", {"body 'pebble'", "'basalt'", "not in the material table"}, [&]() { return FDEMDeformableSetUp(d); }));
+
+  // nu >= 0.5
+  PetscCall(Fresh(&d));
+  PetscCall(ExpectError("nu = 0.5", {"rubber", "Poisson"}, [&]() { return FDEMDeformableAddMaterial(d, "rubber", 1e6, 0.5, 1100, 0, FDEM_MATERIAL_NEO_HOOKEAN); }));
+
+  // hexahedra in a .msh file
+  {
+    const char *path = "deformable_bad_hex.msh";
+    if (rank == 0) {
+      FILE *fp = std::fopen(path, "w");
+      std::fprintf(fp, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n");
+      for (int i = 0; i < 8; ++i) std::fprintf(fp, "%d %d %d %d\n", i + 1, i & 1, (i >> 1) & 1, (i >> 2) & 1);
+      std::fprintf(fp, "$EndNodes\n$Elements\n1\n1 5 2 1 1 1 2 4 3 5 6 8 7\n$EndElements\n");
+      std::fclose(fp);
+    }
+    PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
+    PetscCall(Fresh(&d));
+    PetscCall(ExpectError("hexahedra in a .msh", {"deformable_bad_hex.msh", "hexahedron"}, [&]() { return FDEMDeformableSetMeshFromGmsh(d, path); }));
+    if (rank == 0) std::remove(path);
+  }
+
+  // an element inverting during a run: the error names the element, its body and the time
+  {
+    PetscCall(Fresh(&d));
+    PetscCall(FDEMDeformableAddMaterial(d, "box", 1.0, 0.3, 1.0, 0, FDEM_MATERIAL_MUNJIZA_CST));
+    const PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 2, 2, 2));
+    PetscCall(FDEMDeformableSetUp(d));
+    PetscCall(FDEMDeformableSetVelocityField(d, Squeeze, nullptr));
+    TS  ts;
+    Vec U;
+    PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+    PetscCall(TSSetType(ts, TSFDEMCD));
+    PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+    PetscCall(TSSetTimeStep(ts, 0.005));
+    PetscCall(TSSetMaxTime(ts, 1.0));
+    PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+    PetscCall(ExpectError("inversion during a run", {"element", "of body 'box'", "inverted", "at t = "}, [&]() { return TSSolve(ts, U); }));
+    PetscCall(VecDestroy(&U));
+    PetscCall(TSDestroy(&ts));
+  }
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bad input test passed\n"));
+  PetscCall(PetscFinalize());
+  return 0;
+}
