@@ -16,7 +16,7 @@ struct Common {
   PetscBool        gradient_allowed[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE};
   PetscBool        uses_gradient = PETSC_FALSE; // scheme has gradient/tangent terms
   PetscReal        fd_delta = 6e-6;             // relative step of finite-difference derivatives
-  PetscInt         check_interval = 1;          // steps between Inf/NaN checks
+  PetscInt         check_interval = 10;         // steps between Inf/NaN checks (one pass over the state: ~30% of a cd step)
   PetscInt         steps_unchecked = 0;
   FDEMDriftFn      drift = nullptr;
   void            *drift_ctx = nullptr;

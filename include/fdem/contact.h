@@ -1,0 +1,50 @@
+/* Contact between rigid discrete elements: Munjiza's potential contact force
+   between the tetrahedra of the bodies' contact skins (book 2.6), found by a
+   linear-cost cell search (book 3.8-3.11), in parallel with ghost copies of
+   the bodies of other ranks within the search distance (PetscSF).
+
+   Options (-fdem_contact_*):
+     penalty <Pa>                 the penalty (a modulus: a face pushed a depth d into a tetrahedron
+                                  of height H over that face feels a pressure ~ penalty d / H); required
+     damping <Pa s/m>             normal contact damping per unit approach speed (book 2.6.4)
+     friction <mu>                Coulomb friction coefficient
+     tangential_viscosity <Pa s/m> regularises sticking below the Coulomb limit
+     buffer <length>              search buffer; pairs are re-searched only when some body has moved
+                                  more than half of it (default: 10% of the mean body radius) */
+#ifndef FDEM_CONTACT_H
+#define FDEM_CONTACT_H
+
+#include <fdem/rigid.h>
+
+#if defined(__cplusplus)
+extern "C" {
+#endif
+
+typedef struct _n_FDEMContact *FDEMContact;
+
+typedef struct {
+  PetscInt  searches;        /* cell searches (re-searches) so far */
+  PetscInt  evaluations;     /* contact force evaluations */
+  PetscInt  candidate_pairs; /* tetrahedron pairs from the last search (this rank) */
+  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation (this rank) */
+  PetscInt  ghosts;          /* ghost bodies on this rank */
+  PetscReal energy;          /* overlap energy at the last evaluation (all ranks) */
+} FDEMContactStats;
+
+/* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve). */
+PETSC_EXTERN PetscErrorCode FDEMContactCreate(FDEMRigid rb, FDEMContact *c);
+PETSC_EXTERN PetscErrorCode FDEMContactDestroy(FDEMContact *c);
+PETSC_EXTERN PetscErrorCode FDEMContactSetFromOptions(FDEMContact c);
+PETSC_EXTERN PetscErrorCode FDEMContactSetPenalty(FDEMContact c, PetscReal penalty);
+PETSC_EXTERN PetscErrorCode FDEMContactSetDissipation(FDEMContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
+PETSC_EXTERN PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer);
+PETSC_EXTERN PetscErrorCode FDEMContactGetStats(FDEMContact c, FDEMContactStats *stats);
+/* Estimates the contact frequency omega_c ~ sqrt(penalty A / (L m)) of the
+   lightest body (A its cross-section, L its skin tetrahedra's size) and compares omega_c dt with K_crit of the TS type `scheme`;
+   prints a warning (and returns *ratio = omega_c dt / K_crit) when it exceeds 0.5. */
+PETSC_EXTERN PetscErrorCode FDEMContactCheckTimeStep(FDEMContact c, const char *scheme, PetscReal dt, PetscReal *ratio);
+
+#if defined(__cplusplus)
+}
+#endif
+#endif
