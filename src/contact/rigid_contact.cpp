@@ -1,6 +1,7 @@
 // Contact between rigid bodies: halo of ghost bodies (PetscSF), tetrahedron
 // cell search with a buffer, Munjiza's potential contact force, damping and
 // friction; forces and torques returned to the rigid model's momentum RHS.
+#include "../util/guard.hpp"
 #include <fdem/contact.h>
 #include <petscsf.h>
 #include <fdem/ts.h>
@@ -50,15 +51,6 @@ struct _n_FDEMContact {
 };
 
 namespace {
-
-template <class F>
-PetscErrorCode Guard(MPI_Comm comm, F &&f) {
-  try {
-    return f();
-  } catch (const std::exception &e) {
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", e.what());
-  }
-}
 
 const fdem::model::Skin *SkinOf(FDEMContact c, PetscInt ci) {
   const PetscInt s = c->skin[ci];
@@ -199,7 +191,7 @@ PetscErrorCode Search(FDEMContact c) {
   }
   c->pairs.clear();
   if (!radii.empty()) {
-    PetscCall(Guard(c->comm, [&]() -> PetscErrorCode {
+    PetscCall(fdem::Guard(c->comm, [&]() -> PetscErrorCode {
       fdem::kernels::CellSearch        cs;
       std::vector<std::pair<int, int>> tp;
       cs.Build(centres.data(), radii.data(), (int)radii.size(), dmax * (1 + 1e-12));
@@ -280,7 +272,7 @@ PetscErrorCode ContactForces(FDEMRigid rb, PetscReal, const PetscScalar *q, Pets
   PetscReal             energy = 0;
   PetscInt              active = 0;
   std::array<double, 5> deep{0, -1, -1, -1, -1}; // worst initial overlap: ratio to the limit, bodies, tetrahedra
-  PetscCall(Guard(c->comm, [&]() -> PetscErrorCode {
+  PetscCall(fdem::Guard(c->comm, [&]() -> PetscErrorCode {
     fdem::kernels::TetPairContact pc;
     std::array<Vec3, 4>           fa, fb, va, vb;
     for (const auto &pr : c->pairs) {

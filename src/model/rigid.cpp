@@ -1,4 +1,5 @@
 // Rigid discrete elements in a DMSwarm; see include/fdem/rigid.h.
+#include "../util/guard.hpp"
 #include "rigid_impl.hpp"
 #include <fdem/ts.h>
 #include <fdem/kernels/massprops.hpp>
@@ -19,15 +20,6 @@ using Skin = fdem::model::Skin;
 const char *const FDEMRotationTypes[] = {"munjiza", "nosquish", "exact", "FDEMRotationType", "FDEM_ROTATION_", nullptr};
 
 namespace {
-
-template <class F>
-PetscErrorCode Guard(MPI_Comm comm, F &&f) {
-  try {
-    return f();
-  } catch (const std::exception &e) {
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", e.what());
-  }
-}
 
 Mat3 FromRowMajor(const PetscReal *a) {
   Mat3 M;
@@ -125,7 +117,7 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
   PetscFunctionBegin;
   PetscCall(VecGetArray(U, &u));
   const auto kind = Kind(rb->rotation);
-  PetscCall(Guard(rb->comm, [&]() -> PetscErrorCode {
+  PetscCall(fdem::Guard(rb->comm, [&]() -> PetscErrorCode {
     for (PetscInt b = 0; b < n; ++b) {
       if (rb->fixed[b]) continue;
       PetscScalar *x = &u[3 * b], *R = &u[3 * n + 9 * b], *v = &u[12 * n + 3 * b], *H = &u[15 * n + 3 * b];
@@ -309,7 +301,7 @@ PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt
   char nm[256];
   PetscFunctionBegin;
   PetscCall(PetscSNPrintf(nm, sizeof(nm), "%s (id %" PetscInt_FMT ")", name ? name : "(unnamed)", rb->next_id));
-  PetscCall(Guard(rb->comm, [&]() -> PetscErrorCode {
+  PetscCall(fdem::Guard(rb->comm, [&]() -> PetscErrorCode {
     std::vector<Vec3>               X(nnodes);
     std::vector<std::array<int, 4>> T(ntets);
     for (PetscInt i = 0; i < nnodes; ++i) X[i] = Vec3(nodes[3 * i], nodes[3 * i + 1], nodes[3 * i + 2]);

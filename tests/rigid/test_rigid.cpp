@@ -17,15 +17,7 @@
 using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 
-static int failures = 0;
-#define CHECK(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      failures++; \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-    } \
-  } while (0)
+#include "../common/check.hpp"
 
 // torque from a constant space force F0 applied at the body point c (body frame): M = (R c) x F0
 struct TorqueCtx {
@@ -105,18 +97,6 @@ static double StateDiff(const FDEMRigidBodyState &a, const FDEMRigidBodyState &b
   return d;
 }
 
-template <class F>
-static PetscErrorCode ExpectError(const char *what, const char *needle, F &&f) {
-  char *msg = nullptr;
-  PetscFunctionBeginUser;
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
-  PetscErrorCode ierr = f();
-  PetscCall(PetscPopErrorHandler());
-  if (ierr) PetscCall(PetscErrorMessage(ierr, nullptr, &msg));
-  CHECK(ierr && msg && std::strstr(msg, needle), "%s: expected an error mentioning \"%s\", got %s", what, needle, ierr ? msg : "no error");
-  if (ierr) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s -> %s\n", what, msg));
-  PetscFunctionReturn(0);
-}
 
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));

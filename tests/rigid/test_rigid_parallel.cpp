@@ -18,15 +18,7 @@
 using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 
-static int failures = 0;
-#define CHECK(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      failures++; \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-    } \
-  } while (0)
+#include "../common/check.hpp"
 
 // torque of a constant space force F0 = (0, 0, -4 m) applied at the body point c (body frame), c depending on the id
 static PetscErrorCode Torque(PetscInt id, PetscReal, const PetscReal *, const PetscReal R[9], const PetscReal *, const PetscReal *, PetscReal F[3], PetscReal M[3], void *) {

@@ -8,15 +8,7 @@
 #include <cstring>
 #include <string>
 
-static int failures = 0;
-#define CHECK(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      failures++; \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-    } \
-  } while (0)
+#include "../common/check.hpp"
 
 struct Counts {
   int monitor = 0, pre = 0, post = 0;
@@ -52,21 +44,6 @@ static PetscErrorCode MakeTS(osc::Oscillator *o, const char *type, TS *ts, Vec *
   PetscFunctionReturn(0);
 }
 
-// Runs f with errors returned (not aborted); gives the error code and the message.
-template <class F>
-static PetscErrorCode Expect(const char *what, const char *needle, F &&f) {
-  PetscErrorCode ierr;
-  char          *msg = nullptr;
-  PetscFunctionBeginUser;
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
-  ierr = f();
-  PetscCall(PetscPopErrorHandler());
-  if (ierr) PetscCall(PetscErrorMessage(ierr, nullptr, &msg));
-  CHECK(ierr != 0, "%s: no error raised", what);
-  CHECK(!ierr || (msg && std::strstr(msg, needle)), "%s: message does not mention \"%s\": %s", what, needle, msg ? msg : "(none)");
-  if (ierr) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s -> %s\n", what, msg));
-  PetscFunctionReturn(0);
-}
 
 int main(int argc, char **argv) {
   const char *types[] = {"cd", "pv", "t112", "t16", "d112", "pc3", "pc4", "pc5", "chin", "omf30", "omf32", "fr", "pefrl"};
@@ -167,7 +144,7 @@ int main(int argc, char **argv) {
   }
 
   // 4. bad input: clear errors
-  PetscCall(Expect("missing momentum split", "\"momentum\" split is missing", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("missing momentum split", "\"momentum\" split is missing", [&]() -> PetscErrorCode {
     TS  ts;
     Vec U;
     IS  is;
@@ -184,7 +161,7 @@ int main(int argc, char **argv) {
     PetscCall(TSDestroy(&ts));
     return ierr;
   }));
-  PetscCall(Expect("missing position RHS", "\"position\" split has no RHS function", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("missing position RHS", "\"position\" split has no RHS function", [&]() -> PetscErrorCode {
     TS              ts;
     Vec             U;
     osc::Oscillator o;
@@ -203,7 +180,7 @@ int main(int argc, char **argv) {
     PetscCall(TSDestroy(&ts));
     return ierr;
   }));
-  PetscCall(Expect("overlapping splits", "overlap", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("overlapping splits", "overlap", [&]() -> PetscErrorCode {
     TS              ts;
     Vec             U;
     osc::Oscillator o;
@@ -223,7 +200,7 @@ int main(int argc, char **argv) {
     PetscCall(TSDestroy(&ts));
     return ierr;
   }));
-  PetscCall(Expect("split sizes that do not match", "split sizes do not match", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("split sizes that do not match", "split sizes do not match", [&]() -> PetscErrorCode {
     TS              ts;
     Vec             U;
     osc::Oscillator o;
@@ -243,7 +220,7 @@ int main(int argc, char **argv) {
     PetscCall(TSDestroy(&ts));
     return ierr;
   }));
-  PetscCall(Expect("a gradient option value that does not exist", "bogus", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("a gradient option value that does not exist", "bogus", [&]() -> PetscErrorCode {
     osc::Oscillator o;
     TS              ts;
     Vec             U;
@@ -256,7 +233,7 @@ int main(int argc, char **argv) {
     PetscCall(osc::Destroy(&o));
     return ierr;
   }));
-  PetscCall(Expect("the shifted form on a Taylor scheme", "shifted-force form exists only", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("the shifted form on a Taylor scheme", "shifted-force form exists only", [&]() -> PetscErrorCode {
     osc::Oscillator o;
     TS              ts;
     Vec             U;
@@ -267,7 +244,7 @@ int main(int argc, char **argv) {
     PetscCall(osc::Destroy(&o));
     return ierr;
   }));
-  PetscCall(Expect("jvp gradient without a Jacobian product", "FDEMTSSetForceJacobianProduct", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("jvp gradient without a Jacobian product", "FDEMTSSetForceJacobianProduct", [&]() -> PetscErrorCode {
     osc::Oscillator o;
     TS              ts;
     Vec             U;
@@ -280,7 +257,7 @@ int main(int argc, char **argv) {
     PetscCall(osc::Destroy(&o));
     return ierr;
   }));
-  PetscCall(Expect("an adaptive controller", "fixed steps", [&]() -> PetscErrorCode {
+  PetscCall(ExpectError("an adaptive controller", "fixed steps", [&]() -> PetscErrorCode {
     osc::Oscillator o;
     TS              ts;
     Vec             U;
@@ -312,7 +289,7 @@ int main(int argc, char **argv) {
     if (ierr == 0 && reason < 0) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s at omega h = %.3f stops after %d steps with reason %s\n", type, (double)h, (int)rec.x.size(), TSConvergedReasons[reason]));
     char needle[64];
     PetscCall(PetscSNPrintf(needle, sizeof(needle), "K_crit = %.4f", (double)info.kcrit));
-    PetscCall(Expect("divergence with error-if-step-fails on", needle, [&]() -> PetscErrorCode {
+    PetscCall(ExpectError("divergence with error-if-step-fails on", needle, [&]() -> PetscErrorCode {
       osc::Oscillator o;
       TS              ts;
       Vec             U;
