@@ -10,7 +10,9 @@
 //    nodes, cells sorted by material (long runs for the batched kernel).
 //  - cell_gid / node_gid: global (input) ids of local cells and nodes, carried
 //    through the distribution by broadcasting over the migration SF.
+#include "../util/guard.hpp"
 #include <fdem/deformable.h>
+#include <fdem/deformable_contact.h>
 #include <fdem/kernels/cst.hpp>
 #include <fdem/kernels/error.hpp>
 #include <fdem/kernels/tetmesh.hpp>
@@ -82,16 +84,7 @@ struct _n_FDEMDeformable {
 
 namespace {
 
-template <class F>
-PetscErrorCode Guard(MPI_Comm comm, F &&f) {
-  try {
-    return f();
-  } catch (const fdem::kernels::InputError &e) {
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", e.what());
-  } catch (const std::exception &e) {
-    SETERRQ(comm, PETSC_ERR_LIB, "%s", e.what());
-  }
-}
+using fdem::Guard;
 
 // A message decided on rank 0 (empty: no error) becomes an error on every rank.
 PetscErrorCode CollectiveError(FDEMDeformable d, const std::string &msg_rank0, PetscErrorCode code) {
@@ -1250,5 +1243,32 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
   PetscCall(PetscViewerDestroy(&viewer));
   d->outputs.push_back({step, t, d->nnodes_global, d->ncells_global});
   PetscCall(WriteXDMF(d, base));
+  PetscFunctionReturn(0);
+}
+
+// ---------------------------------------------------------------- developer accessors (contact)
+// Declared in fdem/deformable_contact.h: this rank's cells in local node
+// numbering (the layout of the local vectors the external-force hook gets).
+PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable d, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetLocalCells"));
+  if (ncells) *ncells = (PetscInt)d->ed.size();
+  if (nlocal) *nlocal = d->nlocal;
+  for (size_t e = 0; e < d->ed.size(); ++e) {
+    if (conn)
+      for (int a = 0; a < 4; ++a) conn[4 * e + a] = d->ed.elems[e].n[a];
+    if (body) body[e] = d->ed.body[e];
+    if (cell_gid) cell_gid[e] = d->cell_gid[e];
+  }
+  if (node_gid)
+    for (PetscInt l = 0; l < d->nlocal; ++l) node_gid[l] = d->node_gid[l];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable d, PetscInt b, PetscInt *nbodies, const char **name) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetBodyName"));
+  if (nbodies) *nbodies = (PetscInt)d->body_names.size();
+  if (name) *name = (b >= 0 && b < (PetscInt)d->body_names.size()) ? d->body_names[b].c_str() : "?";
   PetscFunctionReturn(0);
 }

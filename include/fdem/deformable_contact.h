@@ -1,0 +1,80 @@
+/* Contact between deformable bodies (FDEMDeformable): Munjiza's potential
+   contact force (book 2.6, SPEC.md C) between the surface tetrahedra (those
+   with a boundary face) of different bodies, candidate pairs from a
+   linear-cost cell search over their bounding spheres with a buffer (book
+   3.10-3.11, SPEC.md D.2), optional damping and Coulomb friction; the nodal
+   forces go into the FE force vector through FDEMDeformableSetExternalForce.
+   See doc/contact_deformable.md.
+
+     FDEMDeformableSetUp(dfm);
+     FDEMDeformableContactCreate(dfm, &c);      takes the external-force hook of dfm
+     FDEMDeformableContactSetFromOptions(c);    -fdem_dcontact_penalty is required
+     FDEMDeformableSetUpTS(dfm, ts, &U); TSSolve(ts, U);
+     FDEMDeformableContactDestroy(&c);          before FDEMDeformableDestroy
+
+   Options (-fdem_dcontact_*):
+     penalty <Pa>                  the penalty (a modulus: a face pushed a depth d into a tetrahedron of
+                                   height H over that face feels a pressure ~ penalty d / H); required
+     damping <Pa s/m>              normal contact damping per unit approach speed
+     friction <mu>                 Coulomb friction coefficient
+     tangential_viscosity <Pa s/m> regularises sticking below the Coulomb limit
+     buffer <length>               search buffer; pairs are re-searched only when some surface node has
+                                   moved more than half of it (default: a quarter of the mean diameter
+                                   of the surface tetrahedra)
+     self <bool>                   contact between surface tetrahedra of the same body that share no
+                                   node (default false)
+
+   Parallel: every rank gathers the positions of the surface tetrahedra of
+   all ranks (MPI_Allgatherv, O(surface) per rank); a pair is computed once,
+   by the rank holding the tetrahedron with the smaller global element id,
+   and forces on tetrahedra of other ranks go back to their owners through a
+   PetscSF built at each search. */
+#ifndef FDEM_DEFORMABLE_CONTACT_H
+#define FDEM_DEFORMABLE_CONTACT_H
+
+#include <fdem/deformable.h>
+
+#if defined(__cplusplus)
+extern "C" {
+#endif
+
+typedef struct _n_FDEMDeformableContact *FDEMDeformableContact;
+
+typedef struct {
+  PetscInt  searches;        /* cell searches so far */
+  PetscInt  evaluations;     /* contact force evaluations */
+  PetscInt  surface_tets;    /* surface tetrahedra, all ranks */
+  PetscInt  candidate_pairs; /* candidate pairs of the last search, all ranks */
+  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation, all ranks */
+  PetscReal energy;          /* contact (overlap) energy at the last evaluation, all ranks */
+} FDEMDeformableContactStats;
+
+/* Collective; after FDEMDeformableSetUp. Finds the surface tetrahedra and
+   installs the contact force as dfm's external force (it replaces a force
+   set with FDEMDeformableSetExternalForce; Destroy removes it). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactCreate(FDEMDeformable dfm, FDEMDeformableContact *c);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactDestroy(FDEMDeformableContact *c);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetFromOptions(FDEMDeformableContact c);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetPenalty(FDEMDeformableContact c, PetscReal penalty);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetDissipation(FDEMDeformableContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetBuffer(FDEMDeformableContact c, PetscReal buffer);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetSelfContact(FDEMDeformableContact c, PetscBool self);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetStats(FDEMDeformableContact c, FDEMDeformableContactStats *stats);
+/* Total contact force (potential + dissipative) on body `body` at the last evaluation (all ranks). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetBodyForce(FDEMDeformableContact c, PetscInt body, PetscReal F[3]);
+/* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
+
+/* Developer accessors of FDEMDeformable used by contact (defined in
+   src/model/deformable.cpp). GetLocalCells: this rank's cells with their 4
+   local node indices (the node numbering of the local vectors of the
+   external-force hook; positive reference volume), body, global element id,
+   and the global id of every local node; any array may be NULL (call first
+   with NULL arrays for the sizes). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm, PetscInt body, PetscInt *nbodies, const char **name);
+
+#if defined(__cplusplus)
+}
+#endif
+#endif

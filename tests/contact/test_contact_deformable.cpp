@@ -1,0 +1,394 @@
+// Contact between deformable bodies (FDEMDeformableContact) through the whole
+// pipeline: FDEMDeformable + TS (cd) + surface gather + cell search + potential
+// contact force into the FE force vector.
+//  1. two elastic cubes (one mesh, two bodies), head-on and oblique, no damping:
+//     linear momentum conserved to 1e-12 and angular momentum to 1e-10
+//     (relative to m v0 and m v0 L); no contact force while apart; total energy
+//     (kinetic + strain + contact) after separation within a tolerance, the
+//     error shrinking with h; 2 ranks = 1 rank.
+//  2. an elastic ball (a cube mesh mapped onto the sphere) dropped on a plate
+//     whose nodes are all fixed: peak force and contact time against Hertz
+//     theory for a sphere on a rigid flat, at two penalties.
+//  3. bad input: missing or negative penalty, deep initial interpenetration.
+// -only cubes|hertz|bad runs one part; -hertz_n, -hertz_penalty, -hertz_dt for studies.
+#include <fdem.h>
+#include <fdem/deformable.h>
+#include <fdem/deformable_contact.h>
+#include <fdem/kernels/massprops.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using fdem::kernels::Vec3;
+
+#include "../common/check.hpp"
+
+namespace {
+
+struct Mesh {
+  std::vector<PetscReal>   nodes;
+  std::vector<PetscInt>    tets, body;
+  std::vector<std::string> names;
+  void Add(const std::vector<Vec3> &X, const std::vector<std::array<int, 4>> &T, const char *name) {
+    const PetscInt off = (PetscInt)nodes.size() / 3, b = (PetscInt)names.size();
+    for (const auto &p : X) nodes.insert(nodes.end(), {p.x, p.y, p.z});
+    for (const auto &t : T) {
+      tets.insert(tets.end(), {t[0] + off, t[1] + off, t[2] + off, t[3] + off});
+      body.push_back(b);
+    }
+    names.push_back(name);
+  }
+  PetscErrorCode Set(FDEMDeformable d) const {
+    std::vector<const char *> nm;
+    PetscFunctionBeginUser;
+    for (const auto &s : names) nm.push_back(s.c_str());
+    PetscCall(FDEMDeformableSetMesh(d, (PetscInt)nodes.size() / 3, nodes.data(), (PetscInt)body.size(), tets.data(), body.data(), (PetscInt)nm.size(), nm.data()));
+    PetscFunctionReturn(0);
+  }
+};
+
+void Box(Vec3 lo, Vec3 hi, int nx, int ny, int nz, std::vector<Vec3> &X, std::vector<std::array<int, 4>> &T) { fdem::kernels::MakeBoxTets(lo, hi, nx, ny, nz, X, T); }
+
+// A ball of radius R centred at c: a box [-1,1]^3 of n^3 Kuhn cells mapped by the smooth
+// cube-to-sphere map x' = x sqrt(1 - y^2/2 - z^2/2 + y^2 z^2/3) (and cyclically).
+void Ball(Vec3 c, double R, int n, std::vector<Vec3> &X, std::vector<std::array<int, 4>> &T) {
+  Box(Vec3(-1, -1, -1), Vec3(1, 1, 1), n, n, n, X, T);
+  for (auto &p : X) {
+    const double x2 = p.x * p.x, y2 = p.y * p.y, z2 = p.z * p.z;
+    p = c + R * Vec3(p.x * std::sqrt(1 - y2 / 2 - z2 / 2 + y2 * z2 / 3), p.y * std::sqrt(1 - z2 / 2 - x2 / 2 + z2 * x2 / 3), p.z * std::sqrt(1 - x2 / 2 - y2 / 2 + x2 * y2 / 3));
+  }
+}
+
+struct Velocity {
+  PetscInt split; // nodes with id < split get va, the others vb
+  Vec3     va, vb;
+};
+PetscErrorCode SetVelocity(PetscInt id, const PetscReal[3], PetscReal v[3], void *ctx) {
+  const Velocity *w = (const Velocity *)ctx;
+  const Vec3      u = id < w->split ? w->va : w->vb;
+  v[0]              = u.x;
+  v[1]              = u.y;
+  v[2]              = u.z;
+  return 0;
+}
+
+// ------------------------------------------------------------------ 1. two cubes
+struct CubeWatch {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  PetscInt              every = 5;
+  PetscReal             t_touch; // before this time the cubes are apart
+  PetscReal             P0[3], L0[3], E0 = 0, dP = 0, dL = 0;
+  PetscReal             force_apart = 0, Emax_dev = 0, Eend = 0;
+  PetscInt              contact_steps = 0;
+};
+
+PetscErrorCode CubeMonitor(TS, PetscInt step, PetscReal t, Vec U, void *ctx) {
+  CubeWatch *w = (CubeWatch *)ctx;
+  PetscReal  m, com[3], P[3], L[3];
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetMomentum(w->d, U, &m, com, P, L));
+  if (step == 0)
+    for (int k = 0; k < 3; ++k) {
+      w->P0[k] = P[k];
+      w->L0[k] = L[k];
+    }
+  for (int k = 0; k < 3; ++k) {
+    w->dP = std::fmax(w->dP, std::fabs(P[k] - w->P0[k]));
+    w->dL = std::fmax(w->dL, std::fabs(L[k] - w->L0[k]));
+  }
+  if (step % w->every) PetscFunctionReturn(0);
+  PetscReal Ek, Es, Ec, F[3];
+  PetscCall(FDEMDeformableGetEnergy(w->d, U, &Ek, &Es, nullptr));
+  PetscCall(FDEMDeformableContactComputeEnergy(w->c, U, &Ec));
+  PetscCall(FDEMDeformableContactGetBodyForce(w->c, 0, F));
+  const PetscReal E = Ek + Es + Ec, Fn = std::sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
+  if (step == 0) w->E0 = E;
+  if (t < w->t_touch) w->force_apart = std::fmax(w->force_apart, Fn + Ec);
+  if (Fn > 0) w->contact_steps++;
+  w->Emax_dev = std::fmax(w->Emax_dev, std::fabs(E - w->E0));
+  w->Eend     = E;
+  PetscFunctionReturn(0);
+}
+
+struct CubeResult {
+  double dP, dL, force_apart, Eerr, Emax, Pscale, Lscale;
+  PetscInt contact_samples, searches;
+  std::vector<double> probe;
+};
+
+// Two unit cubes with n cells a side, gap 0.1 along x; B offset by `offset` in y and z.
+PetscErrorCode TwoCubes(MPI_Comm comm, int n, double offset, double v0, double penalty, double dt, double T, CubeResult &r) {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  TS                    ts;
+  Vec                   U;
+  Mesh                  M;
+  std::vector<Vec3>     X;
+  std::vector<std::array<int, 4>> Tt;
+  PetscFunctionBeginUser;
+  Box(Vec3(-1.05, -0.5, -0.5), Vec3(-0.05, 0.5, 0.5), n, n, n, X, Tt);
+  M.Add(X, Tt, "left");
+  const PetscInt split = (PetscInt)X.size();
+  Box(Vec3(0.05, -0.5 + offset, -0.5 + 0.5 * offset), Vec3(1.05, 0.5 + offset, 0.5 + 0.5 * offset), n, n, n, X, Tt);
+  M.Add(X, Tt, "right");
+  PetscCall(FDEMDeformableCreate(comm, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rubber", 1.0, 0.3, 1.0, 0.0, FDEM_MATERIAL_NEO_HOOKEAN));
+  PetscCall(M.Set(d));
+  PetscCall(FDEMDeformableSetUp(d));
+  Velocity vel{split, Vec3(v0, 0.2 * offset * v0, 0), Vec3(-v0, -0.2 * offset * v0, 0)};
+  PetscCall(FDEMDeformableSetVelocityField(d, SetVelocity, &vel));
+  PetscCall(FDEMDeformableContactCreate(d, &c));
+  PetscCall(FDEMDeformableContactSetPenalty(c, penalty));
+  PetscCall(FDEMDeformableContactSetFromOptions(c));
+  CubeWatch w;
+  w.d       = d;
+  w.c       = c;
+  w.t_touch = 0.1 / (2 * v0) - 2 * dt;
+  PetscCall(TSCreate(comm, &ts));
+  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetMaxTime(ts, T));
+  PetscCall(TSSetMaxSteps(ts, 1000000));
+  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSMonitorSet(ts, CubeMonitor, &w, nullptr));
+  PetscCall(TSSolve(ts, U));
+  FDEMDeformableContactStats st;
+  PetscCall(FDEMDeformableContactGetStats(c, &st));
+  PetscReal m;
+  PetscCall(FDEMDeformableGetMomentum(d, U, &m, nullptr, nullptr, nullptr));
+  r.dP              = w.dP;
+  r.dL              = w.dL;
+  r.Pscale          = m * v0;
+  r.Lscale          = m * v0 * 1.0;
+  r.force_apart     = w.force_apart;
+  r.Eerr            = std::fabs(w.Eend - w.E0) / w.E0;
+  r.Emax            = w.Emax_dev / w.E0;
+  r.contact_samples = w.contact_steps;
+  r.searches        = st.searches;
+  r.probe.clear();
+  for (PetscInt id : {(PetscInt)0, split - 1, split, 2 * split - 1}) {
+    PetscReal x[3], v[3];
+    PetscCall(FDEMDeformableGetNodeState(d, U, id, x, v));
+    r.probe.insert(r.probe.end(), {x[0], x[1], x[2], v[0], v[1], v[2]});
+  }
+  PetscCall(VecDestroy(&U));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(FDEMDeformableContactDestroy(&c));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TestCubes() {
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  const double v0 = 0.1, penalty = 10, T = 3.5;
+  for (double offset : {0.0, 0.4}) {
+    CubeResult r2, r3; // time steps h and h/2
+    for (double dt : {0.02, 0.01}) {
+      CubeResult &r = dt > 0.015 ? r2 : r3;
+      PetscCall(TwoCubes(PETSC_COMM_WORLD, 3, offset, v0, penalty, dt, T, r));
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                            "cubes %s, n = 3, dt = %g: |dP|/(m v0) = %.2e, |dL|/(m v0 L) = %.2e, force/energy while apart %.1e, contact samples %d, searches %d, "
+                            "energy error: after separation %.2e, max over the run %.2e (relative)\n",
+                            offset > 0 ? "oblique" : "head-on", dt, r.dP / r.Pscale, r.dL / r.Lscale, r.force_apart, (int)r.contact_samples, (int)r.searches, r.Eerr, r.Emax));
+      CHECK(r.dP < 1e-12 * r.Pscale, "linear momentum changes by %g (relative)", r.dP / r.Pscale);
+      CHECK(r.dL < 1e-10 * r.Lscale, "angular momentum changes by %g (relative)", r.dL / r.Lscale);
+      CHECK(r.force_apart == 0, "contact force %g while apart", r.force_apart);
+      CHECK(r.contact_samples > 5, "the cubes never touched");
+      CHECK(r.Eerr < 2e-2 && r.Emax < 2e-2, "energy error %g after separation, %g at most", r.Eerr, r.Emax);
+    }
+    CHECK(r3.Emax < 0.5 * r2.Emax, "energy error does not shrink with h: %g (h) vs %g (h/2)", r2.Emax, r3.Emax);
+    if (size > 1) {
+      CubeResult rs;
+      PetscCall(TwoCubes(PETSC_COMM_SELF, 3, offset, v0, penalty, 0.01, T, rs));
+      double dx = 0, xs = 0;
+      for (size_t i = 0; i < rs.probe.size(); ++i) {
+        dx = std::fmax(dx, std::fabs(rs.probe[i] - r3.probe[i]));
+        xs = std::fmax(xs, std::fabs(rs.probe[i]));
+      }
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cubes %s: %d ranks vs 1: max nodal difference %.2e (4 nodes, x and v)\n", offset > 0 ? "oblique" : "head-on", size, dx));
+      CHECK(dx < 1e-9 * xs, "%d ranks differ from 1 rank by %g", size, dx);
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+// ------------------------------------------------------------------ 2. ball on a plate (Hertz)
+struct HertzWatch {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  PetscReal             Fmax = 0, t_on = -1, t_off = -1;
+};
+PetscErrorCode HertzMonitor(TS, PetscInt, PetscReal t, Vec U, void *ctx) {
+  HertzWatch *w = (HertzWatch *)ctx;
+  PetscReal   Ec, F[3];
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableContactComputeEnergy(w->c, U, &Ec));
+  PetscCall(FDEMDeformableContactGetBodyForce(w->c, 0, F));
+  if (F[2] > 0) {
+    if (w->t_on < 0) w->t_on = t;
+    w->t_off = t;
+  }
+  w->Fmax = std::fmax(w->Fmax, F[2]);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Hertz(int n, double penalty, double dt, double *eF, double *eT) {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  TS                    ts;
+  Vec                   U;
+  Mesh                  M;
+  std::vector<Vec3>     X;
+  std::vector<std::array<int, 4>> Tt;
+  const double          R = 1, E = 1, nu = 0.3, v0 = 0.03, gap = 0.01;
+  PetscFunctionBeginUser;
+  Ball(Vec3(0, 0, R + gap), R, n, X, Tt);
+  M.Add(X, Tt, "ball");
+  const PetscInt nball = (PetscInt)X.size();
+  const int      np    = 2 * n; // plate cells about the ball's surface cells
+  Box(Vec3(-0.7, -0.7, -0.2), Vec3(0.7, 0.7, 0), np, np, 1, X, Tt);
+  M.Add(X, Tt, "plate");
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rubber", E, nu, 1.0, 0.0, FDEM_MATERIAL_NEO_HOOKEAN));
+  PetscCall(M.Set(d));
+  PetscCall(FDEMDeformableSetUp(d));
+  std::vector<PetscInt> fixed;
+  for (PetscInt i = nball; i < nball + (PetscInt)X.size(); ++i) fixed.push_back(i);
+  PetscCall(FDEMDeformableFixNodes(d, (PetscInt)fixed.size(), fixed.data(), nullptr));
+  Velocity vel{nball, Vec3(0, 0, -v0), Vec3(0, 0, 0)};
+  PetscCall(FDEMDeformableSetVelocityField(d, SetVelocity, &vel));
+  PetscReal mass, com[3], P[3];
+  PetscCall(FDEMDeformableGetMomentum(d, nullptr, &mass, com, P, nullptr));
+  const double m = -P[2] / v0; // the ball's mass (the plate does not move)
+  PetscCall(FDEMDeformableContactCreate(d, &c));
+  PetscCall(FDEMDeformableContactSetPenalty(c, penalty));
+  PetscCall(FDEMDeformableContactSetFromOptions(c));
+  HertzWatch w;
+  w.d = d;
+  w.c = c;
+  const double Es = E / (1 - nu * nu);
+  const double dmax = std::pow(15 * m * v0 * v0 / (16 * Es * std::sqrt(R)), 0.4);
+  const double Fh = 4.0 / 3 * Es * std::sqrt(R) * std::pow(dmax, 1.5);
+  const double tc = 2.868 * std::pow(m * m / (R * Es * Es * v0), 0.2);
+  PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetMaxTime(ts, gap / v0 + 1.3 * tc));
+  PetscCall(TSSetMaxSteps(ts, 1000000));
+  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSMonitorSet(ts, HertzMonitor, &w, nullptr));
+  PetscCall(TSSolve(ts, U));
+  PetscReal Pend[3];
+  PetscCall(FDEMDeformableGetMomentum(d, U, nullptr, nullptr, Pend, nullptr));
+  const double t_c = w.t_off - w.t_on + dt;
+  *eF              = w.Fmax / Fh - 1;
+  *eT              = t_c / tc - 1;
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                        "Hertz, ball n = %d (%d tets), penalty %g E, dt %g: m = %.4f, delta_max = %.4f R, F_max = %.4e (Hertz %.4e, %+.1f%%), t_c = %.3f (Hertz %.3f, %+.1f%%), rebound v/v0 = %.3f\n",
+                        n, 6 * n * n * n, penalty / E, dt, m, dmax / R, w.Fmax, Fh, 100 * *eF, t_c, tc, 100 * *eT, Pend[2] / (m * v0)));
+  PetscCall(VecDestroy(&U));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(FDEMDeformableContactDestroy(&c));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TestHertz() {
+  PetscInt  n   = 6;
+  PetscReal pen = -1, dt = 0.01;
+  PetscBool set;
+  double    eF, eT, eF2, eT2;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-hertz_n", &n, nullptr));
+  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-hertz_dt", &dt, nullptr));
+  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-hertz_penalty", &pen, &set));
+  if (set) {
+    PetscCall(Hertz((int)n, pen, dt, &eF, &eT));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(Hertz((int)n, 10, dt, &eF, &eT));
+  PetscCall(Hertz((int)n, 40, dt, &eF2, &eT2));
+  CHECK(std::fabs(eF) < 0.3 && std::fabs(eT) < 0.3, "penalty 10 E: F_max off by %g, t_c off by %g", eF, eT);
+  CHECK(std::fabs(eF2) < 0.3 && std::fabs(eT2) < 0.3, "penalty 40 E: F_max off by %g, t_c off by %g", eF2, eT2);
+  PetscFunctionReturn(0);
+}
+
+// ------------------------------------------------------------------ 3. bad input
+PetscErrorCode TwoCubesAt(double x0, FDEMDeformable *d) {
+  Mesh                            M;
+  std::vector<Vec3>               X;
+  std::vector<std::array<int, 4>> T;
+  PetscFunctionBeginUser;
+  Box(Vec3(-1, -0.5, -0.5), Vec3(0, 0.5, 0.5), 2, 2, 2, X, T);
+  M.Add(X, T, "left");
+  Box(Vec3(x0, -0.5, -0.5), Vec3(x0 + 1, 0.5, 0.5), 2, 2, 2, X, T);
+  M.Add(X, T, "right");
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, d));
+  PetscCall(FDEMDeformableAddMaterial(*d, "rubber", 1.0, 0.3, 1.0, 0.0, FDEM_MATERIAL_NEO_HOOKEAN));
+  PetscCall(M.Set(*d));
+  PetscCall(FDEMDeformableSetUp(*d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TestBadInput() {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  DM                    dm;
+  Vec                   F;
+  PetscFunctionBeginUser;
+  PetscCall(TwoCubesAt(0.02, &d));
+  PetscCall(FDEMDeformableContactCreate(d, &c));
+  PetscCall(FDEMDeformableGetDM(d, &dm));
+  PetscCall(DMCreateGlobalVector(dm, &F));
+  PetscCall(ExpectError("no penalty", "-fdem_dcontact_penalty", [&]() { return FDEMDeformableComputeForces(d, 0, nullptr, F); }));
+  PetscCall(ExpectError("negative penalty", "penalty must be positive", [&]() { return FDEMDeformableContactSetPenalty(c, -1); }));
+  PetscCall(PetscOptionsSetValue(nullptr, "-fdem_dcontact_penalty", "-5"));
+  PetscCall(ExpectError("negative penalty option", "penalty must be positive", [&]() { return FDEMDeformableContactSetFromOptions(c); }));
+  PetscCall(PetscOptionsClearValue(nullptr, "-fdem_dcontact_penalty"));
+  PetscCall(ExpectError("negative friction", "friction", [&]() { return FDEMDeformableContactSetDissipation(c, 0, -0.1, 0); }));
+  PetscCall(ExpectError("negative buffer", "buffer", [&]() { return FDEMDeformableContactSetBuffer(c, -1); }));
+  // apart: zero contact force and energy
+  PetscCall(FDEMDeformableContactSetPenalty(c, 10));
+  PetscReal Ec, Fb[3];
+  PetscCall(FDEMDeformableContactComputeEnergy(c, nullptr, &Ec));
+  PetscCall(FDEMDeformableContactGetBodyForce(c, 1, Fb));
+  CHECK(Ec == 0 && Fb[0] == 0 && Fb[1] == 0 && Fb[2] == 0, "force between separated cubes: energy %g, F %g", Ec, Fb[0]);
+  PetscCall(VecDestroy(&F));
+  PetscCall(FDEMDeformableContactDestroy(&c));
+  PetscCall(FDEMDeformableDestroy(&d));
+  // deep initial interpenetration
+  PetscCall(TwoCubesAt(-0.3, &d));
+  PetscCall(FDEMDeformableContactCreate(d, &c));
+  PetscCall(FDEMDeformableContactSetPenalty(c, 10));
+  PetscCall(FDEMDeformableGetDM(d, &dm));
+  PetscCall(DMCreateGlobalVector(dm, &F));
+  PetscCall(ExpectError("deep interpenetration", "bodies 'left' and 'right' start interpenetrating deeply", [&]() { return FDEMDeformableComputeForces(d, 0, nullptr, F); }));
+  PetscCall(VecDestroy(&F));
+  PetscCall(FDEMDeformableContactDestroy(&c));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  char      only[32] = "";
+  PetscBool set;
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscCall(FDEMInitializePackage());
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-only", only, sizeof(only), &set));
+  if (!set || !std::strcmp(only, "bad")) PetscCall(TestBadInput());
+  if (!set || !std::strcmp(only, "cubes")) PetscCall(TestCubes());
+  if (!set || !std::strcmp(only, "hertz")) PetscCall(TestHertz());
+  if (failures) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d FAILURES\n", failures));
+  else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "deformable contact test passed\n"));
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
