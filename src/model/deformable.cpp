@@ -1246,6 +1246,43 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
   PetscFunctionReturn(0);
 }
 
+// Internal accessors for src/scene (src/model/deformable_impl.hpp).
+#include "deformable_impl.hpp"
+
+PetscErrorCode fdem::model::DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *a) {
+  const PetscScalar *mi;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "DeformableAcceleration"));
+  PetscCall(AssembleForces(d, t, xo, vo, a));
+  PetscCall(VecGetArrayRead(d->minv, &mi));
+  for (PetscInt k = 0; k < d->nown; ++k) {
+    if (d->fixed[k]) {
+      a[3 * k] = a[3 * k + 1] = a[3 * k + 2] = 0;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) a[3 * k + c] = a[3 * k + c] * mi[3 * k + c] + d->g[c];
+  }
+  PetscCall(VecRestoreArrayRead(d->minv, &mi));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx) {
+  PetscFunctionBegin;
+  *fn  = d->ext;
+  *ctx = d->ext_ctx;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::DeformableGetLocalCells(FDEMDeformable d, std::vector<std::array<int, 4>> &cells, std::vector<PetscInt> &node_global, PetscInt *nlocal) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "DeformableGetLocalCells"));
+  cells.resize(d->ed.size());
+  for (size_t e = 0; e < d->ed.size(); ++e) cells[e] = d->ed.elems[e].n;
+  node_global = d->node_global;
+  *nlocal     = d->nlocal;
+  PetscFunctionReturn(0);
+}
+
 // ---------------------------------------------------------------- developer accessors (contact)
 // Declared in fdem/deformable_contact.h: this rank's cells in local node
 // numbering (the layout of the local vectors the external-force hook gets).

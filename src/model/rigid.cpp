@@ -533,3 +533,15 @@ PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3], PetscReal L[
   if (E) *E = glob[6];
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode fdem::model::RigidRHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
+  PetscFunctionBegin;
+  PetscCall(RHSMomentum(ts, t, Q, A, ctx));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::RigidDrift(TS ts, PetscReal t, PetscReal s, Vec U, void *ctx) {
+  PetscFunctionBegin;
+  PetscCall(Drift(ts, t, s, U, ctx));
+  PetscFunctionReturn(0);
+}

@@ -62,3 +62,12 @@ struct RigidFields {
 PetscErrorCode RigidGetFields(DM sw, RigidFields &f);
 PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
 } // namespace fdem::model
+
+// The rigid model's split RHS and drift, for a combined state assembled
+// elsewhere (src/scene): Q = [x (3n) | R (9n)], A = [F/m (3n) | M (3n)], U =
+// [x | R | v | H] of rb->n bodies; rb->n, mass, inertia, ids and fixed must be
+// set (as FDEMRigidSetUpTS does) and rb->U must hold the velocities for contact.
+namespace fdem::model {
+PetscErrorCode RigidRHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *rb);
+PetscErrorCode RigidDrift(TS ts, PetscReal t, PetscReal s, Vec U, void *rb);
+} // namespace fdem::model

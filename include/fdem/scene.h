@@ -1,0 +1,85 @@
+/* A combined scene: rigid bodies (FDEMRigid) and deformable tetrahedral
+   meshes (FDEMDeformable) stepped by ONE TS of any fdem splitting type, with
+   rigid-deformable contact (Munjiza's potential contact force between the
+   rigid bodies' skin tetrahedra and the mesh's surface tetrahedra).
+   See doc/scene.md.
+
+   State per rank (one Vec, no copies on the hot path: the rigid and
+   deformable pieces work on views of it):
+       [ deformable x (3 nd) | rigid x (3 nr), R (9 nr) | rigid v (3 nr), H (3 nr) | deformable v (3 nd) ]
+        \________________ "position" ______________/   \_______________ "momentum" _______________/
+   nd = owned mesh nodes, nr = local rigid bodies. Both splits are contiguous
+   and the rigid block [x | R | v | H] is exactly the rigid model's own state,
+   so its RHS, drift and contact run on it unchanged. The drift moves the mesh
+   nodes additively (x += s v) and turns the rigid bodies by torque-free
+   motion (-fdem_rigid_rotation); the kick adds s F/m to every velocity and
+   the impulse s M to every H.
+
+   Life cycle
+     FDEMSceneCreate(comm, &sc);
+     FDEMSceneSetRigid(sc, rb);          optional; rb set up with its bodies (and FDEMContact, if any)
+     FDEMSceneSetDeformable(sc, dfm);    optional; after FDEMDeformableSetUp
+     FDEMSceneSetFromOptions(sc);        -fdem_scene_contact_penalty etc.
+     FDEMSceneSetUpTS(sc, ts, &U);
+     TSSolve(ts, U);
+     FDEMSceneRestoreState(sc, U);       copies U back into the swarm and the mesh's x, v
+     VecDestroy(&U); FDEMSceneDestroy(&sc);
+   rb and dfm are borrowed: destroy them after the scene. */
+#ifndef FDEM_SCENE_H
+#define FDEM_SCENE_H
+
+#include <fdem/deformable.h>
+#include <fdem/rigid.h>
+
+#if defined(__cplusplus)
+extern "C" {
+#endif
+
+typedef struct _n_FDEMScene *FDEMScene;
+
+typedef struct {
+  PetscInt  searches;        /* broad-phase searches (this rank) */
+  PetscInt  evaluations;     /* contact force evaluations */
+  PetscInt  candidate_pairs; /* (surface tet, rigid skin tet) pairs from the last search (this rank) */
+  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation (all ranks) */
+  PetscInt  surface_cells;   /* mesh cells taking part in contact (all ranks) */
+  PetscReal energy;          /* contact (overlap) energy at the last evaluation (all ranks) */
+  PetscReal buffer;          /* search buffer in use */
+} FDEMSceneContactStats;
+
+PETSC_EXTERN PetscErrorCode FDEMSceneCreate(MPI_Comm comm, FDEMScene *sc);
+PETSC_EXTERN PetscErrorCode FDEMSceneDestroy(FDEMScene *sc);
+PETSC_EXTERN PetscErrorCode FDEMSceneSetRigid(FDEMScene sc, FDEMRigid rb);
+PETSC_EXTERN PetscErrorCode FDEMSceneSetDeformable(FDEMScene sc, FDEMDeformable dfm);
+
+/* Rigid-deformable contact. Off until a positive penalty is given (a scene
+   without contact does no search). penalty (Pa) as for FDEMContact; damping
+   (Pa s/m) and friction (Coulomb mu) as fdem::kernels::ContactDampingFriction;
+   buffer: search buffer (length), re-search when something moved more than
+   half of it (< 0: 20% of the mean bounding radius of the tetrahedra involved).
+   Options: -fdem_scene_contact_penalty, -fdem_scene_contact_damping,
+   -fdem_scene_contact_friction, -fdem_scene_contact_tangential_viscosity,
+   -fdem_scene_contact_buffer. */
+PETSC_EXTERN PetscErrorCode FDEMSceneSetContact(FDEMScene sc, PetscReal penalty, PetscReal damping, PetscReal friction, PetscReal buffer);
+PETSC_EXTERN PetscErrorCode FDEMSceneSetFromOptions(FDEMScene sc);
+
+/* Sets the splits, RHS functions, drift and solution of ts; creates *U from
+   the rigid swarm and the mesh's stored x, v. The TS must not outlive sc. */
+PETSC_EXTERN PetscErrorCode FDEMSceneSetUpTS(FDEMScene sc, TS ts, Vec *U);
+/* Copies U into the rigid swarm and the mesh's stored x, v (U is kept). */
+PETSC_EXTERN PetscErrorCode FDEMSceneRestoreState(FDEMScene sc, Vec U);
+/* Local sizes: rigid bodies nr and owned mesh nodes nd (either may be NULL). */
+PETSC_EXTERN PetscErrorCode FDEMSceneGetLocalSizes(FDEMScene sc, PetscInt *nr, PetscInt *nd);
+
+/* Collective diagnostics at U (copies U into the models first):
+   P, L: total linear momentum and angular momentum about the origin (rigid
+   m v and x x m v + H, mesh sum m v and x x m v); E[0] rigid kinetic, E[1]
+   mesh kinetic, E[2] strain energy (FDEMDeformableGetEnergy), E[3] contact
+   overlap energy at U (any may be NULL). */
+PETSC_EXTERN PetscErrorCode FDEMSceneGetInvariants(FDEMScene sc, Vec U, PetscReal t, PetscReal P[3], PetscReal L[3], PetscReal E[4]);
+PETSC_EXTERN PetscErrorCode FDEMSceneGetContactStats(FDEMScene sc, FDEMSceneContactStats *stats);
+
+#if defined(__cplusplus)
+}
+#endif
+#endif
