@@ -34,6 +34,8 @@ def main():
     ke = [max(x, 1e-12) for x in cols["kinetic_energy"]]
     b.semilogy(t, ke, label="kinetic energy")
     b.semilogy(t, [max(x, 1e-12) for x in cols["potential_energy_released"]], label="potential energy released")
+    top = max(max(ke), max(cols["potential_energy_released"]))
+    b.set_ylim(1e-7 * top, 3 * top)
     b.set_xlabel("t (s)")
     b.set_ylabel("energy (J)")
     b.legend()
