@@ -225,9 +225,11 @@ int main(int argc, char **argv) {
   PetscCall(FDEMRigidSetFromOptions(rb));
   PetscCall(FDEMContactCreate(rb, &contact));
   c.contact = contact;
-  // defaults: penalty 2e7 Pa keeps a resting pebble's overlap ~1% of its size; damping
-  // near critical for a pebble-floor contact; the tangential viscosity regularises stick
-  // (c_t A dt / m well below 1 for explicit stability)
+  // defaults: penalty 3e6 Pa keeps the deepest overlap at rest ~1e-3..2e-2 pebble diameters
+  // and omega_c dt / K_crit ~ 0.45 at dt = 4e-4 (FDEMContactCheckTimeStep); damping and
+  // tangential viscosity 1e5 Pa s/m (they act per unit contact area, so vertex contacts need
+  // them this large; c A dt / m < 1 for a face-on contact of the lightest pebble keeps the
+  // explicit viscous terms stable); friction 0.6; buffer 0.15 pebble sizes
   PetscCall(FDEMContactSetPenalty(contact, 3e6));
   PetscCall(FDEMContactSetDissipation(contact, 1e5, 0.6, 1e5));
   PetscCall(FDEMContactSetBuffer(contact, 0.15 * size));
