@@ -80,8 +80,8 @@ const std::vector<Vec3> &World(FDEMContact c, PetscInt ci) {
   return c->world[ci];
 }
 
-// Which ranks need a copy of a body at x with radius r: those whose slab lies within r + rmax + buffer.
-void NeededBy(FDEMRigid rb, const PetscReal *x, PetscReal reach, std::vector<PetscMPIInt> &ranks) {
+// Which ranks need a copy of a body at x: those whose slab lies within reach + (the largest radius on that rank).
+void NeededBy(FDEMRigid rb, const PetscReal *x, PetscReal reach, const std::vector<PetscReal> &rmax_of, std::vector<PetscMPIInt> &ranks) {
   ranks.clear();
   if (rb->axis < 0 || rb->size == 1) return;
   const int       a = rb->axis;
@@ -92,7 +92,7 @@ void NeededBy(FDEMRigid rb, const PetscReal *x, PetscReal reach, std::vector<Pet
     if (s == 0) slo = -PETSC_MAX_REAL;
     if (s == rb->size - 1) shi = PETSC_MAX_REAL;
     const PetscReal d = x[a] < slo ? slo - x[a] : (x[a] > shi ? x[a] - shi : 0);
-    if (d <= reach) ranks.push_back(s);
+    if (d <= reach + rmax_of[s]) ranks.push_back(s);
   }
 }
 
@@ -102,14 +102,17 @@ PetscErrorCode Search(FDEMContact c) {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_DETECT, 0, 0, 0, 0));
   const PetscInt n = c->n;
-  PetscReal      rmax = 0, grmax;
+  // the largest body radius held by each rank: rank s needs my body b when b comes within
+  // r_b + (largest radius on s) + buffer of s's slab (a big fixed floor then widens the halo of its own rank only)
+  PetscReal              rmax = 0;
+  std::vector<PetscReal> rmax_of(c->size);
   for (PetscInt b = 0; b < n; ++b) rmax = std::max(rmax, c->radius[b]);
-  PetscCallMPI(MPI_Allreduce(&rmax, &grmax, 1, MPIU_REAL, MPI_MAX, c->comm));
+  PetscCallMPI(MPI_Allgather(&rmax, 1, MPIU_REAL, rmax_of.data(), 1, MPIU_REAL, c->comm));
   // 1. who needs which of my bodies
   std::vector<std::vector<PetscInt>> send(c->size);
   std::vector<PetscMPIInt>           ranks;
   for (PetscInt b = 0; b < n; ++b) {
-    NeededBy(rb, &c->root_state[NS * b], c->radius[b] + grmax + c->buffer, ranks);
+    NeededBy(rb, &c->root_state[NS * b], c->radius[b] + c->buffer, rmax_of, ranks);
     for (PetscMPIInt s : ranks) send[s].push_back(b);
   }
   std::vector<int> scount(c->size), rcount(c->size), sdis(c->size + 1, 0), rdis(c->size + 1, 0);
