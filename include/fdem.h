@@ -5,6 +5,11 @@
 
 #include <petscts.h>
 #include <fdem/ts.h>
+#include <fdem/rigid.h>
+#include <fdem/contact.h>
+#include <fdem/deformable.h>
+#include <fdem/deformable_contact.h>
+#include <fdem/scene.h>
 
 #if defined(__cplusplus)
 extern "C" {

@@ -42,7 +42,7 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetDomain(FDEMRigid rb, const PetscReal lo[
 /* Adds a body given by its principal data. Call on every rank with the same
    arguments: the rank whose slab holds x keeps it. omega is the space-frame
    angular velocity. *id (may be NULL) gets the body's id. */
-PETSC_EXTERN PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, PetscReal mass, const PetscReal I[3], const PetscReal x[3], const PetscReal R[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
+PETSC_EXTERN PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, PetscReal mass, const PetscReal inertia[3], const PetscReal x[3], const PetscReal R[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
 /* Adds a body from a closed tetrahedral mesh (its own frame) and a density:
    mass, centre of mass and principal axes from the geometry. The body is
    placed so that its mesh frame is turned by Q (row-major; NULL = identity)
@@ -67,7 +67,7 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal
 
 typedef struct {
   PetscInt  id;
-  PetscReal mass, I[3], x[3], R[9], v[3], H[3], omega[3], radius;
+  PetscReal mass, inertia[3], x[3], R[9], v[3], H[3], omega[3], radius;
   PetscMPIInt rank;
 } FDEMRigidBodyState;
 /* Collective: the state of body id, wherever it lives. */

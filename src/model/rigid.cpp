@@ -498,7 +498,7 @@ PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodySta
   st->id    = id;
   st->rank  = gowner;
   st->mass  = buf[k++];
-  for (int i = 0; i < 3; ++i) st->I[i] = buf[k++];
+  for (int i = 0; i < 3; ++i) st->inertia[i] = buf[k++];
   for (int i = 0; i < 3; ++i) st->x[i] = buf[k++];
   for (int i = 0; i < 9; ++i) st->R[i] = buf[k++];
   for (int i = 0; i < 3; ++i) st->v[i] = buf[k++];
