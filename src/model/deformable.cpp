@@ -11,6 +11,7 @@
 //  - cell_gid / node_gid: global (input) ids of local cells and nodes, carried
 //    through the distribution by broadcasting over the migration SF.
 #include "../util/guard.hpp"
+#include "../util/output.hpp"
 #include <fdem/deformable.h>
 #include <fdem/deformable_contact.h>
 #include <fdem/kernels/cst.hpp>
@@ -1112,79 +1113,6 @@ PetscErrorCode FDEMDeformableGetMinJacobian(FDEMDeformable d, Vec U, PetscReal *
 }
 
 // ---------------------------------------------------------------- output
-namespace {
-PetscErrorCode WriteReal(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscReal> &a, PetscInt bs) {
-  Vec          V;
-  PetscScalar *p;
-  PetscFunctionBegin;
-  PetscCall(VecCreate(comm, &V));
-  PetscCall(VecSetSizes(V, (PetscInt)a.size(), PETSC_DETERMINE));
-  PetscCall(VecSetBlockSize(V, bs));
-  PetscCall(VecSetType(V, VECSTANDARD));
-  PetscCall(PetscObjectSetName((PetscObject)V, name));
-  PetscCall(VecGetArray(V, &p));
-  for (size_t i = 0; i < a.size(); ++i) p[i] = a[i];
-  PetscCall(VecRestoreArray(V, &p));
-  PetscCall(VecView(V, viewer));
-  PetscCall(VecDestroy(&V));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode WriteInt(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscInt> &a, PetscInt bs) {
-  IS is;
-  PetscFunctionBegin;
-  PetscCall(ISCreateGeneral(comm, (PetscInt)a.size(), a.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(ISSetBlockSize(is, bs));
-  PetscCall(PetscObjectSetName((PetscObject)is, name));
-  PetscCall(ISView(is, viewer));
-  PetscCall(ISDestroy(&is));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode WriteXDMF(FDEMDeformable d, const char *base) {
-  PetscFunctionBegin;
-  if (d->rank != 0) PetscFunctionReturn(0);
-  const std::string b(base), xmf = b + ".xmf";
-  const size_t      slash = b.find_last_of('/');
-  const std::string h5    = (slash == std::string::npos ? b : b.substr(slash + 1)) + ".h5";
-  FILE             *fp    = std::fopen(xmf.c_str(), "w");
-  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "FDEMDeformableWriteHDF5: cannot open %s for writing", xmf.c_str());
-  const int ip = (int)sizeof(PetscInt), rp = (int)sizeof(PetscReal);
-  std::fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf xmlns:xi=\"http://www.w3.org/2001/XInclude\" Version=\"2.0\">\n  <Domain>\n");
-  std::fprintf(fp, "    <Grid Name=\"deformable mesh\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-  for (const auto &o : d->outputs) {
-    char g[64];
-    std::snprintf(g, sizeof(g), "step_%06d", (int)o.step);
-    const long long nv = o.nvert, nc = o.ncell;
-    auto attr = [&](const char *name, const char *type, const char *center, long long n, int comps, bool real) {
-      char dims[64];
-      if (comps > 1 || !real) std::snprintf(dims, sizeof(dims), "%lld %d", n, comps); // ISView writes (n, 1)
-      else std::snprintf(dims, sizeof(dims), "%lld", n);
-      std::fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", name, type, center);
-      std::fprintf(fp, "          <DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:/%s/%s</DataItem>\n        </Attribute>\n", dims, real ? "Float" : "Int", real ? rp : ip, h5.c_str(), g, name);
-    };
-    std::fprintf(fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", g);
-    std::fprintf(fp, "        <Time Value=\"%.17g\"/>\n", (double)o.t);
-    std::fprintf(fp, "        <Topology TopologyType=\"Tetrahedron\" NumberOfElements=\"%lld\">\n", nc);
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 4\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">%s:/%s/cells</DataItem>\n        </Topology>\n", nc, ip, h5.c_str(), g);
-    std::fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/%s/vertices</DataItem>\n        </Geometry>\n", nv, rp, h5.c_str(), g);
-    attr("displacement", "Vector", "Node", nv, 3, true);
-    attr("velocity", "Vector", "Node", nv, 3, true);
-    attr("node_id", "Scalar", "Node", nv, 1, false);
-    attr("stress", "Tensor6", "Cell", nc, 6, true);
-    attr("von_mises", "Scalar", "Cell", nc, 1, true);
-    attr("body", "Scalar", "Cell", nc, 1, false);
-    attr("rank", "Scalar", "Cell", nc, 1, false);
-    std::fprintf(fp, "      </Grid>\n");
-  }
-  std::fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
-  const bool ok = std::fclose(fp) == 0;
-  PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "FDEMDeformableWriteHDF5: error writing %s", xmf.c_str());
-  PetscFunctionReturn(0);
-}
-} // namespace
-
 PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base, PetscInt step, PetscReal t) {
   StateView              sv;
   const PetscScalar     *Xa, *sa;
@@ -1228,21 +1156,32 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
   PetscCall(PetscSNPrintf(group, sizeof(group), "/step_%06d", (int)step));
   PetscCall(PetscViewerHDF5Open(d->comm, file, d->outputs.empty() ? FILE_MODE_WRITE : FILE_MODE_APPEND, &viewer));
   PetscCall(PetscViewerHDF5PushGroup(viewer, group));
-  PetscCall(WriteReal(d->comm, viewer, "vertices", xv, 3));
-  PetscCall(WriteReal(d->comm, viewer, "displacement", dv, 3));
-  PetscCall(WriteReal(d->comm, viewer, "velocity", vv, 3));
-  PetscCall(WriteInt(d->comm, viewer, "node_id", nid, 1));
-  PetscCall(WriteInt(d->comm, viewer, "cells", cells, 4));
-  PetscCall(WriteReal(d->comm, viewer, "stress", st, 6));
-  PetscCall(WriteReal(d->comm, viewer, "von_mises", vm, 1));
-  PetscCall(WriteInt(d->comm, viewer, "body", body, 1));
-  PetscCall(WriteInt(d->comm, viewer, "rank", rank, 1));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "vertices", xv, 3));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "displacement", dv, 3));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "velocity", vv, 3));
+  PetscCall(fdem::output::WriteInt(d->comm, viewer, "node_id", nid, 1));
+  PetscCall(fdem::output::WriteInt(d->comm, viewer, "cells", cells, 4));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "stress", st, 6));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "von_mises", vm, 1));
+  PetscCall(fdem::output::WriteInt(d->comm, viewer, "body", body, 1));
+  PetscCall(fdem::output::WriteInt(d->comm, viewer, "rank", rank, 1));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "step", PETSC_INT, &step));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(PetscViewerDestroy(&viewer));
   d->outputs.push_back({step, t, d->nnodes_global, d->ncells_global});
-  PetscCall(WriteXDMF(d, base));
+  {
+    std::vector<fdem::output::XdmfStep> steps;
+    for (const auto &o : d->outputs) steps.push_back({o.step, o.t, (long long)o.nvert, (long long)o.ncell});
+    PetscCall(fdem::output::WriteXDMF(d->comm, "FDEMDeformableWriteHDF5", base, "deformable mesh", "Tetrahedron", 4, steps,
+                                      {{"displacement", "Vector", "Node", 3, true},
+                                       {"velocity", "Vector", "Node", 3, true},
+                                       {"node_id", "Scalar", "Node", 1, false},
+                                       {"stress", "Tensor6", "Cell", 6, true},
+                                       {"von_mises", "Scalar", "Cell", 1, true},
+                                       {"body", "Scalar", "Cell", 1, false},
+                                       {"rank", "Scalar", "Cell", 1, false}}));
+  }
   PetscFunctionReturn(0);
 }
 

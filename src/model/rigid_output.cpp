@@ -12,6 +12,7 @@
 // (FDEMRigidAddBody) are drawn as an octahedron of their bounding radius
 // whose vertices lie on the principal axes, so their orientation shows.
 #include "rigid_impl.hpp"
+#include "../util/output.hpp"
 #include <fdem/kernels/rotation.hpp>
 
 #include <petscviewerhdf5.h>
@@ -38,68 +39,6 @@ const Skin &Octahedron() {
     return s;
   }();
   return oct;
-}
-
-// writes a (n x bs) real array as a Vec named `name` in the current group
-PetscErrorCode WriteReal(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscReal> &a, PetscInt bs) {
-  Vec          V;
-  PetscScalar *p;
-  PetscFunctionBegin;
-  PetscCall(VecCreate(comm, &V));
-  PetscCall(VecSetSizes(V, (PetscInt)a.size(), PETSC_DETERMINE));
-  PetscCall(VecSetBlockSize(V, bs));
-  PetscCall(VecSetType(V, VECSTANDARD));
-  PetscCall(PetscObjectSetName((PetscObject)V, name));
-  PetscCall(VecGetArray(V, &p));
-  for (size_t i = 0; i < a.size(); ++i) p[i] = a[i];
-  PetscCall(VecRestoreArray(V, &p));
-  PetscCall(VecView(V, viewer));
-  PetscCall(VecDestroy(&V));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode WriteInt(MPI_Comm comm, PetscViewer viewer, const char *name, const std::vector<PetscInt> &a, PetscInt bs) {
-  IS is;
-  PetscFunctionBegin;
-  PetscCall(ISCreateGeneral(comm, (PetscInt)a.size(), a.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(ISSetBlockSize(is, bs));
-  PetscCall(PetscObjectSetName((PetscObject)is, name));
-  PetscCall(ISView(is, viewer));
-  PetscCall(ISDestroy(&is));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode WriteXDMF(FDEMRigid rb, const char *base) {
-  PetscFunctionBegin;
-  if (rb->rank != 0) PetscFunctionReturn(0);
-  const std::string b(base), xmf = b + ".xmf";
-  const size_t      slash = b.find_last_of('/');
-  const std::string h5    = (slash == std::string::npos ? b : b.substr(slash + 1)) + ".h5"; // relative to the .xmf
-  FILE             *fp    = std::fopen(xmf.c_str(), "w");
-  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "FDEMRigidWriteHDF5: cannot open %s for writing", xmf.c_str());
-  const int ip = (int)sizeof(PetscInt), rp = (int)sizeof(PetscReal);
-  std::fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf xmlns:xi=\"http://www.w3.org/2001/XInclude\" Version=\"2.0\">\n  <Domain>\n");
-  std::fprintf(fp, "    <Grid Name=\"rigid bodies\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-  for (const auto &o : rb->outputs) {
-    char g[64];
-    std::snprintf(g, sizeof(g), "step_%06d", (int)o.step);
-    const long long nv = o.nvert, nt = o.ntri;
-    std::fprintf(fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", g);
-    std::fprintf(fp, "        <Time Value=\"%.17g\"/>\n", (double)o.t);
-    std::fprintf(fp, "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"%lld\">\n", nt);
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">%s:/%s/cells</DataItem>\n        </Topology>\n", nt, ip, h5.c_str(), g);
-    std::fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/%s/vertices</DataItem>\n        </Geometry>\n", nv, rp, h5.c_str(), g);
-    std::fprintf(fp, "        <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n");
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 3\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/%s/velocity</DataItem>\n        </Attribute>\n", nv, rp, h5.c_str(), g);
-    std::fprintf(fp, "        <Attribute Name=\"body_id\" AttributeType=\"Scalar\" Center=\"Cell\">\n");
-    std::fprintf(fp, "          <DataItem Dimensions=\"%lld 1\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">%s:/%s/body_id</DataItem>\n        </Attribute>\n", nt, ip, h5.c_str(), g);
-    std::fprintf(fp, "      </Grid>\n");
-  }
-  std::fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
-  const bool ok = std::fclose(fp) == 0;
-  PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "FDEMRigidWriteHDF5: error writing %s", xmf.c_str());
-  PetscFunctionReturn(0);
 }
 
 } // namespace
@@ -164,16 +103,20 @@ PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step,
   PetscCall(PetscSNPrintf(group, sizeof(group), "/step_%06d", (int)step));
   PetscCall(PetscViewerHDF5Open(rb->comm, file, rb->outputs.empty() ? FILE_MODE_WRITE : FILE_MODE_APPEND, &viewer));
   PetscCall(PetscViewerHDF5PushGroup(viewer, group));
-  PetscCall(WriteReal(rb->comm, viewer, "vertices", X, 3));
-  PetscCall(WriteReal(rb->comm, viewer, "velocity", V, 3));
-  PetscCall(WriteInt(rb->comm, viewer, "cells", cells, 3));
-  PetscCall(WriteInt(rb->comm, viewer, "body_id", bid, 1));
+  PetscCall(fdem::output::WriteReal(rb->comm, viewer, "vertices", X, 3));
+  PetscCall(fdem::output::WriteReal(rb->comm, viewer, "velocity", V, 3));
+  PetscCall(fdem::output::WriteInt(rb->comm, viewer, "cells", cells, 3));
+  PetscCall(fdem::output::WriteInt(rb->comm, viewer, "body_id", bid, 1));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "step", PETSC_INT, &step));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(PetscViewerDestroy(&viewer));
 
   rb->outputs.push_back({step, t, glob[0], glob[1]});
-  PetscCall(WriteXDMF(rb, base));
+  {
+    std::vector<fdem::output::XdmfStep> steps;
+    for (const auto &o : rb->outputs) steps.push_back({o.step, o.t, (long long)o.nvert, (long long)o.ntri});
+    PetscCall(fdem::output::WriteXDMF(rb->comm, "FDEMRigidWriteHDF5", base, "rigid bodies", "Triangle", 3, steps, {{"velocity", "Vector", "Node", 3, true}, {"body_id", "Scalar", "Cell", 1, false}}));
+  }
   PetscFunctionReturn(0);
 }
