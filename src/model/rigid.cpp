@@ -65,16 +65,7 @@ PetscErrorCode RHSPosition(TS ts, PetscReal, Vec P, Vec dQ, void *ctx) {
   PetscCall(VecGetArrayRead(P, &p));
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(dQ, &dq));
-  for (PetscInt b = 0; b < n; ++b) {
-    for (int k = 0; k < 3; ++k) dq[3 * b + k] = p[3 * b + k];
-    const Mat3 R = FromRowMajor(&u[3 * n + 9 * b]);
-    const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
-    const Vec3 w = fdem::kernels::BodyOmega(R, I, Vec3(p[3 * n + 3 * b], p[3 * n + 3 * b + 1], p[3 * n + 3 * b + 2]));
-    for (int c = 0; c < 3; ++c) {
-      const Vec3 d = fdem::kernels::cross(w, R.col(c));
-      for (int r = 0; r < 3; ++r) dq[3 * n + 9 * b + 3 * r + c] = d[r];
-    }
-  }
+  fdem::model::RigidPositionRate(rb, p, &u[3 * n], dq);
   PetscCall(VecRestoreArray(dQ, &dq));
   PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(VecRestoreArrayRead(P, &p));
@@ -132,6 +123,20 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
 }
 
 } // namespace
+
+void fdem::model::RigidPositionRate(FDEMRigid rb, const PetscScalar *p, const PetscScalar *R9, PetscScalar *dq) {
+  const PetscInt n = rb->n;
+  for (PetscInt b = 0; b < n; ++b) {
+    for (int k = 0; k < 3; ++k) dq[3 * b + k] = p[3 * b + k];
+    const Mat3 R = FromRowMajor(&R9[9 * b]);
+    const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
+    const Vec3 w = fdem::kernels::BodyOmega(R, I, Vec3(p[3 * n + 3 * b], p[3 * n + 3 * b + 1], p[3 * n + 3 * b + 2]));
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 d = fdem::kernels::cross(w, R.col(c));
+      for (int r = 0; r < 3; ++r) dq[3 * n + 9 * b + 3 * r + c] = d[r];
+    }
+  }
+}
 
 PetscErrorCode fdem::model::RigidGetFields(DM sw, RigidFields &f) {
   PetscFunctionBegin;

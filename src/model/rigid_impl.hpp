@@ -60,6 +60,8 @@ struct RigidFields {
   PetscInt  *id, *skin, *fixed;
 };
 PetscErrorCode RigidGetFields(DM sw, RigidFields &f);
+// dq = [v | [omega]x R] of the rb->n local bodies from p = [v | H] and their orientations R9 (9 per body).
+void RigidPositionRate(FDEMRigid rb, const PetscScalar *p, const PetscScalar *R9, PetscScalar *dq);
 PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
 } // namespace fdem::model
 

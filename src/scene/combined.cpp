@@ -436,17 +436,7 @@ PetscErrorCode RHSPosition(TS ts, PetscReal, Vec P, Vec dQ, void *ctx) {
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(dQ, &dq));
   for (PetscInt i = 0; i < 3 * nd; ++i) dq[i] = p[6 * nr + i];
-  PetscScalar *dr = dq + 3 * nd;
-  for (PetscInt b = 0; b < nr; ++b) {
-    for (int k = 0; k < 3; ++k) dr[3 * b + k] = p[3 * b + k];
-    const Mat3 R = Rot(&u[OffRigid(s) + 3 * nr + 9 * b]);
-    const Vec3 I(s->rb->inertia[3 * b], s->rb->inertia[3 * b + 1], s->rb->inertia[3 * b + 2]);
-    const Vec3 w = fdem::kernels::BodyOmega(R, I, Vec3(p[3 * nr + 3 * b], p[3 * nr + 3 * b + 1], p[3 * nr + 3 * b + 2]));
-    for (int c = 0; c < 3; ++c) {
-      const Vec3 d = fdem::kernels::cross(w, R.col(c));
-      for (int r = 0; r < 3; ++r) dr[3 * nr + 9 * b + 3 * r + c] = d[r];
-    }
-  }
+  if (nr) fdem::model::RigidPositionRate(s->rb, p, &u[OffRigid(s) + 3 * nr], dq + 3 * nd);
   PetscCall(VecRestoreArray(dQ, &dq));
   PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(VecRestoreArrayRead(P, &p));
