@@ -45,6 +45,9 @@ typedef struct {
   PetscInt  surface_cells;   /* mesh cells taking part in contact (all ranks) */
   PetscReal energy;          /* contact (overlap) energy at the last evaluation (all ranks) */
   PetscReal buffer;          /* search buffer in use */
+  PetscInt  ghost_bodies;    /* ghost copies of other ranks' rigid bodies held by this rank (last search) */
+  PetscInt  near_bodies;     /* rigid bodies (own and ghost) near this rank's mesh region, searched (last search) */
+  PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
 } FDEMSceneContactStats;
 
 PETSC_EXTERN PetscErrorCode FDEMSceneCreate(MPI_Comm comm, FDEMScene *sc);
@@ -59,7 +62,21 @@ PETSC_EXTERN PetscErrorCode FDEMSceneSetDeformable(FDEMScene sc, FDEMDeformable 
    half of it (< 0: 20% of the mean bounding radius of the tetrahedra involved).
    Options: -fdem_scene_contact_penalty, -fdem_scene_contact_damping,
    -fdem_scene_contact_friction, -fdem_scene_contact_tangential_viscosity,
-   -fdem_scene_contact_buffer. */
+   -fdem_scene_contact_buffer.
+
+   Parallel: at each search every rank's region (the box of the bounding
+   spheres of its mesh contact cells, + buffer/2) is shared (MPI_Allgather, 6
+   numbers per rank); a rigid body whose bounding sphere (radius + buffer)
+   meets another rank's region is sent there as a ghost. A PetscSF, rebuilt at
+   each search, carries the owners' states to the ghosts at every evaluation
+   and sums the forces and moments on ghosts back into the owners. A pair
+   (mesh cell, rigid skin tetrahedron) is computed once, by the rank owning
+   the cell.
+
+   Checks: at the first evaluation after FDEMSceneSetUpTS, an overlap energy
+   above that of 10% of the smaller tetrahedron of a pair is a collective
+   error naming the rigid body id, the deformable body and both elements; at
+   the first force evaluation of the TS, FDEMSceneCheckTimeStep. */
 PETSC_EXTERN PetscErrorCode FDEMSceneSetContact(FDEMScene sc, PetscReal penalty, PetscReal damping, PetscReal friction, PetscReal buffer);
 PETSC_EXTERN PetscErrorCode FDEMSceneSetFromOptions(FDEMScene sc);
 
@@ -78,6 +95,17 @@ PETSC_EXTERN PetscErrorCode FDEMSceneGetLocalSizes(FDEMScene sc, PetscInt *nr, P
    overlap energy at U (any may be NULL). */
 PETSC_EXTERN PetscErrorCode FDEMSceneGetInvariants(FDEMScene sc, Vec U, PetscReal t, PetscReal P[3], PetscReal L[3], PetscReal E[4]);
 PETSC_EXTERN PetscErrorCode FDEMSceneGetContactStats(FDEMScene sc, FDEMSceneContactStats *stats);
+/* Collective: the rigid-deformable contact frequency omega_c against the stability limit
+   K_crit of the fdem TS type `scheme` (FDEMSchemeInfoFind); *ratio (may be NULL) =
+   omega_c dt / K_crit, and a WARNING is printed when it exceeds 0.5. omega_c is the larger of
+   the rigid side, sqrt(penalty A / (L m)) with A = (2 r)^2 (r the body's bounding radius, L
+   the size of its skin tetrahedra, m its mass; non-fixed bodies), and the mesh side,
+   sqrt(penalty A / (3 H m)) over the contact cells (largest face A, height H over it, smallest
+   lumped node mass m ~ rho V / 4), at the stored positions. Needs FDEMSceneSetUpTS with
+   contact on. FDEMSceneSetUpTS arranges for it to run once by itself, at the first force
+   evaluation of the TS (its type and time step are final then; the ratio is kept in
+   FDEMSceneContactStats.dt_ratio). */
+PETSC_EXTERN PetscErrorCode FDEMSceneCheckTimeStep(FDEMScene sc, const char *scheme, PetscReal dt, PetscReal *ratio);
 
 #if defined(__cplusplus)
 }
