@@ -24,11 +24,19 @@
      self <bool>                   contact between surface tetrahedra of the same body that share no
                                    node (default false)
 
-   Parallel: every rank gathers the positions of the surface tetrahedra of
-   all ranks (MPI_Allgatherv, O(surface) per rank); a pair is computed once,
-   by the rank holding the tetrahedron with the smaller global element id,
-   and forces on tetrahedra of other ranks go back to their owners through a
-   PetscSF built at each search. */
+   Parallel: at each search every rank's region (8 boxes from a k-d split of
+   the bounding spheres of its own surface tetrahedra, with half the buffer)
+   is shared (MPI_Allgather of 56 numbers per rank) and a surface tetrahedron whose
+   sphere meets another rank's region is sent there as a ghost; a PetscSF
+   (rebuilt at each search) then carries positions and velocities to the
+   ghosts at every evaluation and sums the forces on ghosts back into their
+   owners' nodes. A pair is computed once, by the rank owning the tetrahedron
+   with the smaller global element id (which holds the other as its own or as
+   a ghost).
+
+   Time step: at the first evaluation inside a TS of FDEMDeformableSetUpTS
+   the contact frequency is estimated (FDEMDeformableContactCheckTimeStep)
+   and a warning printed when omega_c dt exceeds half the scheme's K_crit. */
 #ifndef FDEM_DEFORMABLE_CONTACT_H
 #define FDEM_DEFORMABLE_CONTACT_H
 
@@ -44,6 +52,7 @@ typedef struct {
   PetscInt  searches;        /* cell searches so far */
   PetscInt  evaluations;     /* contact force evaluations */
   PetscInt  surface_tets;    /* surface tetrahedra, all ranks */
+  PetscInt  ghost_tets;      /* ghost copies of other ranks' surface tetrahedra held by this rank (last search) */
   PetscInt  candidate_pairs; /* candidate pairs of the last search, all ranks */
   PetscInt  active_pairs;    /* overlapping pairs at the last evaluation, all ranks */
   PetscReal energy;          /* contact (overlap) energy at the last evaluation, all ranks */
@@ -60,8 +69,13 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetDissipation(FDEMDeformableCo
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetBuffer(FDEMDeformableContact c, PetscReal buffer);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetSelfContact(FDEMDeformableContact c, PetscBool self);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetStats(FDEMDeformableContact c, FDEMDeformableContactStats *stats);
-/* Total contact force (potential + dissipative) on body `body` at the last evaluation (all ranks). */
+/* Collective: total contact force (potential + dissipative) on body `body` at the last evaluation (all ranks). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetBodyForce(FDEMDeformableContact c, PetscInt body, PetscReal F[3]);
+/* Collective: the contact frequency omega_c = max sqrt(penalty A / (3 H m)) over the
+   surface tetrahedra (largest face A, height H over it, smallest lumped node mass m),
+   at the current positions; *ratio (may be NULL) = omega_c dt / K_crit of the fdem
+   TS type `scheme`. Prints a warning when the ratio exceeds 0.5. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableContact c, const char *scheme, PetscReal dt, PetscReal *ratio);
 /* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
 

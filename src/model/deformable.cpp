@@ -1212,6 +1212,18 @@ PetscErrorCode fdem::model::DeformableGetExternalForce(FDEMDeformable d, FDEMDef
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode fdem::model::DeformableGetFixed(FDEMDeformable d, const std::vector<char> **fixed) {
+  PetscFunctionBegin;
+  *fixed = &d->fixed;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::DeformableGetTS(FDEMDeformable d, TS *ts) {
+  PetscFunctionBegin;
+  *ts = d->ts;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode fdem::model::DeformableGetLocalCells(FDEMDeformable d, std::vector<std::array<int, 4>> &cells, std::vector<PetscInt> &node_global, PetscInt *nlocal) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableGetLocalCells"));

@@ -17,4 +17,8 @@ PetscErrorCode DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceF
 // xloc/vloc/floc, 3 entries per local node), the global vertex number of
 // every local node, and the number of local nodes.
 PetscErrorCode DeformableGetLocalCells(FDEMDeformable d, std::vector<std::array<int, 4>> &cells, std::vector<PetscInt> &node_global, PetscInt *nlocal);
+// Per owned node: 1 if fixed (FDEMDeformableFixNodes*).
+PetscErrorCode DeformableGetFixed(FDEMDeformable d, const std::vector<char> **fixed);
+// The TS of the last FDEMDeformableSetUpTS (NULL if none; not referenced).
+PetscErrorCode DeformableGetTS(FDEMDeformable d, TS *ts);
 } // namespace fdem::model

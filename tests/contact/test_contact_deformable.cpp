@@ -10,7 +10,8 @@
 //     whose nodes are all fixed: peak force and contact time against Hertz
 //     theory for a sphere on a rigid flat (F_max within +35%, t_c within 20%).
 //  3. bad input: missing or negative penalty, deep initial interpenetration.
-// -only cubes|hertz|bad runs one part; -hertz_n, -hertz_penalty, -hertz_dt for studies.
+//  4. the time-step check: stiff contact stable at 0.8 of the predicted limit, blowing up at 1.25.
+// -only cubes|dt|hertz|bad runs one part; -hertz_n, -hertz_penalty, -hertz_dt for studies.
 #include <fdem.h>
 #include <fdem/deformable.h>
 #include <fdem/deformable_contact.h>
@@ -115,7 +116,7 @@ PetscErrorCode CubeMonitor(TS, PetscInt step, PetscReal t, Vec U, void *ctx) {
 
 struct CubeResult {
   double dP, dL, force_apart, Eerr, Emax, Pscale, Lscale;
-  PetscInt contact_samples, searches;
+  PetscInt contact_samples, searches, surface, ghosts_max; // ghosts_max: the most ghost tetrahedra on one rank
   std::vector<double> probe;
 };
 
@@ -169,6 +170,8 @@ PetscErrorCode TwoCubes(MPI_Comm comm, int n, double offset, double v0, double p
   r.Emax            = w.Emax_dev / w.E0;
   r.contact_samples = w.contact_steps;
   r.searches        = st.searches;
+  r.surface         = st.surface_tets;
+  PetscCallMPI(MPI_Allreduce(&st.ghost_tets, &r.ghosts_max, 1, MPIU_INT, MPI_MAX, comm));
   r.probe.clear();
   for (PetscInt id : {(PetscInt)0, split - 1, split, 2 * split - 1}) {
     PetscReal x[3], v[3];
@@ -211,9 +214,104 @@ PetscErrorCode TestCubes() {
         dx = std::fmax(dx, std::fabs(rs.probe[i] - r3.probe[i]));
         xs = std::fmax(xs, std::fabs(rs.probe[i]));
       }
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cubes %s: %d ranks vs 1: max nodal difference %.2e (4 nodes, x and v)\n", offset > 0 ? "oblique" : "head-on", size, dx));
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cubes %s: %d ranks vs 1: max nodal difference %.2e (4 nodes, x and v); ghosts on one rank at most %d of %d surface tetrahedra\n", offset > 0 ? "oblique" : "head-on", size, dx, (int)r3.ghosts_max,
+                            (int)r3.surface));
+      // the halo holds only the tetrahedra near the other rank's region, not the whole surface
+      // (2 ranks: 50 and 64 of 180; with 3 ranks a rank holding pieces of both cubes needs ~100)
+      CHECK(r3.ghosts_max > 0 && (size > 2 || r3.ghosts_max < r3.surface / 2), "halo: %d ghosts of %d surface tetrahedra", (int)r3.ghosts_max, (int)r3.surface);
       CHECK(dx < 1e-9 * xs, "%d ranks differ from 1 rank by %g", size, dx);
     }
+  }
+  PetscFunctionReturn(0);
+}
+
+// ------------------------------------------------------------------ 1b. the time-step check
+// Two cubes head-on with a stiff penalty (the contact, not the elements, limits the step).
+// FDEMDeformableContactCheckTimeStep predicts a cd limit dt* = dt / ratio for the stiffest
+// case (flat contact of equal free bodies). Asserted: the ratio is linear in dt; at 0.8 dt*
+// the collision keeps the energy to 5%; at 4 dt* the contact pumps energy in (> 2 E0).
+// Measured (doc/contact_deformable.md): below 1.4 dt* the energy error stays < 3%; above,
+// the one-sided contact chatters and gains energy erratically (13% at 1.44, x3.9 at 3.2).
+struct BlowWatch {
+  FDEMDeformable        d;
+  FDEMDeformableContact c;
+  PetscReal             E0 = -1, Emax = 0;
+};
+PetscErrorCode BlowMonitor(TS ts, PetscInt, PetscReal, Vec U, void *ctx) {
+  BlowWatch *w = (BlowWatch *)ctx;
+  PetscReal  Ek, Es, Ec;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetEnergy(w->d, U, &Ek, &Es, nullptr));
+  PetscCall(FDEMDeformableContactComputeEnergy(w->c, U, &Ec));
+  const PetscReal E = Ek + Es + Ec;
+  if (w->E0 < 0) w->E0 = E;
+  w->Emax = std::fmax(w->Emax, E);
+  if (!(E < 10 * w->E0)) PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER)); // blown up: stop before elements invert
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StiffCubes(double factor, double *dtstar, double *ratio, double *growth) {
+  FDEMDeformable                  d;
+  FDEMDeformableContact           c;
+  TS                              ts;
+  Vec                             U;
+  Mesh                            M;
+  std::vector<Vec3>               X;
+  std::vector<std::array<int, 4>> Tt;
+  const double                    v0 = 0.1, penalty = 400;
+  PetscFunctionBeginUser;
+  Box(Vec3(-1.05, -0.5, -0.5), Vec3(-0.05, 0.5, 0.5), 3, 3, 3, X, Tt);
+  M.Add(X, Tt, "left");
+  const PetscInt split = (PetscInt)X.size();
+  Box(Vec3(0.05, -0.5, -0.5), Vec3(1.05, 0.5, 0.5), 3, 3, 3, X, Tt);
+  M.Add(X, Tt, "right");
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rubber", 1.0, 0.3, 1.0, 0.0, FDEM_MATERIAL_NEO_HOOKEAN));
+  PetscCall(M.Set(d));
+  PetscCall(FDEMDeformableSetUp(d));
+  Velocity vel{split, Vec3(v0, 0, 0), Vec3(-v0, 0, 0)};
+  PetscCall(FDEMDeformableSetVelocityField(d, SetVelocity, &vel));
+  PetscCall(FDEMDeformableContactCreate(d, &c));
+  PetscCall(FDEMDeformableContactSetPenalty(c, penalty));
+  PetscCall(FDEMDeformableContactCheckTimeStep(c, "cd", 1e-3, ratio));
+  *dtstar         = 1e-3 / *ratio;
+  const double dt = factor * *dtstar;
+  PetscCall(FDEMDeformableContactCheckTimeStep(c, "cd", dt, ratio));
+  BlowWatch w;
+  w.d = d;
+  w.c = c;
+  PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetMaxTime(ts, 1.5));
+  PetscCall(TSSetMaxSteps(ts, 1000000));
+  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSMonitorSet(ts, BlowMonitor, &w, nullptr));
+  PetscCall(TSSolve(ts, U));
+  *growth = w.Emax / w.E0;
+  PetscCall(VecDestroy(&U));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(FDEMDeformableContactDestroy(&c));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TestTimeStep() {
+  double    dts, ratio, growth;
+  PetscReal fs[16] = {0.8, 4.0};
+  PetscInt  nf     = 16;
+  PetscBool set;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetRealArray(nullptr, nullptr, "-dt_factors", fs, &nf, &set));
+  if (!set) nf = 2;
+  for (PetscInt i = 0; i < nf; ++i) {
+    const double factor = fs[i];
+    PetscCall(StiffCubes(factor, &dts, &ratio, &growth));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "time-step check: predicted cd limit dt* = %.4e; at %.2f dt* (omega_c dt / K_crit = %.3f) the energy peaks at %.3f E0\n", dts, factor, ratio, growth));
+    CHECK(std::fabs(ratio - factor) < 1e-12 * factor, "the ratio %g does not scale with dt (expected %g)", ratio, factor);
+    if (!set && factor < 1) CHECK(growth < 1.05, "stable step predicted, but the energy grew to %g E0", growth);
+    if (!set && factor > 1) CHECK(growth > 2, "a step 4x the predicted limit kept the energy at %g E0", growth);
   }
   PetscFunctionReturn(0);
 }
@@ -388,6 +486,7 @@ int main(int argc, char **argv) {
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-only", only, sizeof(only), &set));
   if (!set || !std::strcmp(only, "bad")) PetscCall(TestBadInput());
   if (!set || !std::strcmp(only, "cubes")) PetscCall(TestCubes());
+  if (!set || !std::strcmp(only, "dt")) PetscCall(TestTimeStep());
   if (!set || !std::strcmp(only, "hertz")) PetscCall(TestHertz());
   if (failures) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d FAILURES\n", failures));
   else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "deformable contact test passed\n"));
