@@ -4,12 +4,19 @@
 //  broad phase:  CellSearch Build + FindPairs, time per element for
 //                N = 1e3 .. 1e6 at two packing densities (target: flat within 25%).
 // Usage: bench_contact_kernels [max_n]
+//        bench_contact_kernels --broad [rounds] [max_n]
+//   --broad: broad phase only; every (N, density) cell of the table is
+//   measured `rounds` times (default 5), the sizes interleaved and rotated
+//   between rounds so that load from other processes hits all sizes alike.
+//   Prints the median and the min-max spread of each cell, and per density the
+//   ratio max/min of the medians over N (the flatness figure).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fdem/kernels/contact.hpp"
@@ -80,7 +87,7 @@ struct BroadResult {
 // different configuration, as a simulation would; otherwise the same one is
 // searched again and again, which lets the branch predictor memorise small
 // inputs.
-BroadResult Broad(int n, double spacing, bool fresh) {
+BroadResult Broad(int n, double spacing, bool fresh, double min_seconds = 1.0) {
   const double L = std::cbrt(double(n)) * spacing;
   std::uniform_real_distribution<double> U(0, L);
   const int nsets = fresh ? std::max(2, 4000000 / n) : 1;
@@ -105,13 +112,58 @@ BroadResult Broad(int n, double spacing, bool fresh) {
     tt += Seconds(t0, t2);
     np += double(pairs.size());
     ++reps;
-  } while (tt < 1.0 || reps < 3);
+  } while (tt < min_seconds || reps < 3);
   return {1e9 * tt / (double(reps) * n), np / (double(reps) * n), tb / tt};
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+int BroadOnly(int rounds, int nmax) {
+  std::vector<int> sizes;
+  for (int n = 1000; n <= nmax; n *= 10) sizes.push_back(n);
+  const double spacing[2] = {1.0, 3.0};
+  for (const bool fresh : {true, false}) {
+    // t[size][density] over rounds
+    std::vector<std::vector<std::vector<double>>> t(sizes.size(), std::vector<std::vector<double>>(2));
+    std::vector<std::vector<double>> pp(sizes.size(), std::vector<double>(2));
+    for (int r = 0; r < rounds; ++r)
+      for (std::size_t k = 0; k < sizes.size(); ++k) {
+        const std::size_t s = (k + r) % sizes.size();
+        for (int d = 0; d < 2; ++d) {
+          const BroadResult b = Broad(sizes[s], spacing[(d + r) % 2], fresh, 0.4);
+          t[s][(d + r) % 2].push_back(b.ns_per_elem);
+          pp[s][(d + r) % 2] = b.pairs_per_elem;
+        }
+      }
+    std::printf("\nBroad phase: CellSearch Build + FindPairs, ns per element, median of %d rounds [min-max], %s\n",
+                rounds, fresh ? "a fresh configuration every repetition" : "the same configuration repeated");
+    std::printf("  %9s | %-30s | %-30s\n", "N", "dense (1 elem/cell)", "sparse (1/27 elem/cell)");
+    double lo[2] = {1e300, 1e300}, hi[2] = {0, 0};
+    for (std::size_t s = 0; s < sizes.size(); ++s) {
+      std::printf("  %9d |", sizes[s]);
+      for (int d = 0; d < 2; ++d) {
+        const double med = Median(t[s][d]);
+        lo[d] = std::min(lo[d], med);
+        hi[d] = std::max(hi[d], med);
+        std::printf(" %7.1f [%6.1f-%6.1f] %5.2fp |", med, *std::min_element(t[s][d].begin(), t[s][d].end()),
+                    *std::max_element(t[s][d].begin(), t[s][d].end()), pp[s][d]);
+      }
+      std::printf("\n");
+    }
+    std::printf("  max/min  | %-30.2f | %-30.2f\n", hi[0] / lo[0], hi[1] / lo[1]);
+  }
+  return 0;
 }
 
 } // namespace
 
 int main(int argc, char **argv) {
+  if (argc > 1 && std::string(argv[1]) == "--broad")
+    return BroadOnly(argc > 2 ? std::atoi(argv[2]) : 5, argc > 3 ? std::atoi(argv[3]) : 1000000);
   const int nmax = argc > 1 ? std::atoi(argv[1]) : 1000000;
   std::printf("Narrow phase: PotentialContactForce, both directions, energy included (one core)\n");
   Narrow(0.3, true, "overlapping random pairs");

@@ -3,6 +3,17 @@
 // coordinate (C[n_z], B[2][n_y], A[2][n_x]); here the same (z, y, x) order
 // comes from an LSD radix sort of packed cell keys, so nothing is indexed by
 // cell coordinate and a huge coordinate range costs no memory.
+//
+// Memory traffic (what keeps the time per element flat up to 1e6 elements):
+//  * Build reads the centres twice in input order (bounds, then keys), sorts
+//    8-byte records (key << 32 | index) when the key fits 32 bits, counting
+//    every digit in the key pass, and gathers each centre once, prefetched,
+//    into a 32-byte record in cell order; the cell coordinates come back out
+//    of the sorted key, so no per-element array is read at random.
+//  * FindPairs streams the records: a cell's candidates are five contiguous
+//    runs of records (its own row and four neighbour rows, at most a layer
+//    behind, so still in cache), listed as element indices in a small buffer
+//    and scanned in one branch-free loop per element.
 #include "fdem/kernels/nbs.hpp"
 
 #include <algorithm>
@@ -15,10 +26,28 @@
 namespace fdem::kernels {
 namespace {
 
+constexpr int kWindow = 4; // cells read at once when merging rows (FindPairs)
+
 int BitsFor(std::uint64_t v) {
   int b = 0;
   while (v) { ++b; v >>= 1; }
   return b;
+}
+
+// v >> s and the low-b-bit mask, defined for shifts of 64 too.
+inline std::uint64_t Shr(std::uint64_t v, int s) { return s >= 64 ? 0 : v >> s; }
+inline std::uint64_t LowMask(int b) { return b >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << b) - 1; }
+
+// One LSD radix pass over records of W words (word 0 holds the digit).
+template <int W>
+void RadixPass(const std::uint64_t *src, std::uint64_t *dst, int n, int shift, std::uint64_t mask,
+               std::uint32_t *count) {
+  for (int i = 0; i < n; ++i) {
+    const std::uint64_t *s = src + std::size_t(W) * i;
+    std::uint64_t *d = dst + std::size_t(W) * count[(s[0] >> shift) & mask]++;
+    d[0] = s[0];
+    if (W == 2) d[1] = s[1];
+  }
 }
 
 } // namespace
@@ -38,17 +67,25 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   if (n == 0) {
     row_cell_.push_back(0);
     cell_start_.push_back(0);
+    cell_x_.assign(kWindow, ~std::uint64_t(0));
+    elem_.clear();
+    id_.clear();
     return;
   }
   double lo[3] = {c[0], c[1], c[2]}, hi[3] = {c[0], c[1], c[2]};
+  bool finite = true;
   for (int i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) {
       const double v = c[3 * i + d];
-      if (!std::isfinite(v))
-        throw InputError("CellSearch::Build: element " + std::to_string(i) + " has a non-finite centre coordinate");
+      finite &= std::isfinite(v);
       lo[d] = std::min(lo[d], v);
       hi[d] = std::max(hi[d], v);
     }
+  if (!finite)
+    for (int i = 0; i < 3 * n; ++i)
+      if (!std::isfinite(c[i]))
+        throw InputError("CellSearch::Build: element " + std::to_string(i / 3) +
+                         " has a non-finite centre coordinate");
   if (radii)
     for (int i = 0; i < n; ++i)
       if (!(radii[i] >= 0) || !(2 * radii[i] <= cell))
@@ -62,88 +99,245 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   const double inv = 1.0 / h;
   if (ext * inv > 4.0e18)
     throw InputError("CellSearch::Build: coordinate range / cell size exceeds 4e18 cells");
-  ix_.resize(n);
-  iy_.resize(n);
-  iz_.resize(n);
-  std::uint64_t mx[3] = {0, 0, 0};
-  for (int i = 0; i < n; ++i) {
-    ix_[i] = static_cast<std::uint64_t>((c[3 * i] - lo[0]) * inv);
-    iy_[i] = static_cast<std::uint64_t>((c[3 * i + 1] - lo[1]) * inv);
-    iz_[i] = static_cast<std::uint64_t>((c[3 * i + 2] - lo[2]) * inv);
-    mx[0] = std::max(mx[0], ix_[i]);
-    mx[1] = std::max(mx[1], iy_[i]);
-    mx[2] = std::max(mx[2], iz_[i]);
-  }
-  const int bx = BitsFor(mx[0]), by = BitsFor(mx[1]), bz = BitsFor(mx[2]);
+  // Cell index of coordinate v along axis d. It is monotone in v, so the
+  // largest index is that of the upper bound.
+  auto index = [&](double v, int d) { return static_cast<std::uint64_t>((v - lo[d]) * inv); };
+  const int bx = BitsFor(index(hi[0], 0)), by = BitsFor(index(hi[1], 1)), bz = BitsFor(index(hi[2], 2));
   const int total = bx + by + bz;
-  order_.resize(n);
-  if (total <= 64) {
-    // Packed key z|y|x, LSD radix sort with digits sized to n.
-    sort_a_.resize(n);
-    sort_b_.resize(n);
-    for (int i = 0; i < n; ++i) {
-      std::uint64_t k = ix_[i];
-      if (by) k |= iy_[i] << bx;
-      if (bz) k |= iz_[i] << (bx + by);
-      sort_a_[i] = {k, i};
+  const double half = 0.5 * cell;
+  elem_.resize(4 * std::size_t(n));
+  id_.resize(n);
+  double *E = elem_.data();
+  int *id = id_.data();
+
+  // Element data in cell order, then runs of cells and rows. at(p) gives the
+  // input index and the cell (x, y, z) of the p-th element in (z, y, x) order.
+  auto gather = [&](auto at) {
+    std::uint64_t px = 0, py = 0, pz = 0;
+    for (int p = 0; p < n; ++p) {
+      std::uint64_t X, Y, Z;
+      const int i = at(p, X, Y, Z);
+      double *ep = E + 4 * std::size_t(p);
+      ep[0] = c[3 * i];
+      ep[1] = c[3 * i + 1];
+      ep[2] = c[3 * i + 2];
+      ep[3] = radii ? radii[i] : half;
+      id[p] = i;
+      const bool new_row = p == 0 || Z != pz || Y != py;
+      if (new_row) {
+        row_cell_.push_back(static_cast<int>(cell_x_.size()));
+        row_z_.push_back(Z);
+        row_y_.push_back(Y);
+      }
+      if (new_row || X != px) {
+        cell_start_.push_back(p);
+        cell_x_.push_back(X);
+      }
+      px = X;
+      py = Y;
+      pz = Z;
     }
+  };
+
+  if (total <= 64) {
+    // Packed key z|y|x. Records are key << 32 | index (one word) when the key
+    // fits 32 bits, else (key, index) in two words. LSD radix sort with
+    // digits sized to n; all digit counts are taken in the key pass.
+    const int W = total <= 32 ? 1 : 2;
+    const int kshift = W == 1 ? 32 : 0; // where the key sits in word 0
+    int passes = 0, b = 0;
     if (total > 0) {
       int bmax = 4;
-      while (bmax < 12 && (std::int64_t(1) << (bmax + 3)) <= n) ++bmax;
-      const int passes = (total + bmax - 1) / bmax;
-      const int b = (total + passes - 1) / passes;
-      const std::uint64_t mask = (std::uint64_t(1) << b) - 1;
-      count_.resize(std::size_t(1) << b);
-      KeyIndex *src = sort_a_.data(), *dst = sort_b_.data();
-      for (int p = 0; p < passes; ++p) {
-        const int shift = p * b;
-        std::fill(count_.begin(), count_.end(), 0u);
-        for (int i = 0; i < n; ++i) ++count_[(src[i].key >> shift) & mask];
-        std::uint32_t s = 0;
-        for (auto &v : count_) { const std::uint32_t t = v; v = s; s += t; }
-        for (int i = 0; i < n; ++i) dst[count_[(src[i].key >> shift) & mask]++] = src[i];
-        std::swap(src, dst);
-      }
-      for (int i = 0; i < n; ++i) order_[i] = src[i].index;
-    } else {
-      for (int i = 0; i < n; ++i) order_[i] = i;
+      while (bmax < 11 && (std::int64_t(1) << (bmax + 3)) <= n) ++bmax;
+      passes = (total + bmax - 1) / bmax;
+      b = (total + passes - 1) / passes;
     }
+    const std::uint64_t mask = LowMask(b);
+    const std::size_t nb = std::size_t(1) << b;
+    count_.assign(std::size_t(passes) * nb, 0u);
+    sort_a_.resize(std::size_t(W) * n);
+    sort_b_.resize(std::size_t(W) * n);
+    std::uint64_t *src = sort_a_.data(), *dst = sort_b_.data();
+    std::uint32_t *cnt = count_.data();
+    for (int i = 0; i < n; ++i) {
+      const std::uint64_t X = index(c[3 * i], 0), Y = index(c[3 * i + 1], 1), Z = index(c[3 * i + 2], 2);
+      std::uint64_t k = X;
+      if (by) k |= Y << bx;
+      if (bz) k |= Z << (bx + by);
+      if (W == 1) {
+        src[i] = k << 32 | std::uint32_t(i);
+      } else {
+        src[2 * i] = k;
+        src[2 * i + 1] = std::uint64_t(i);
+      }
+      for (int p = 0; p < passes; ++p) ++cnt[p * nb + ((k >> (p * b)) & mask)];
+    }
+    for (int p = 0; p < passes; ++p) {
+      std::uint32_t *cp = cnt + p * nb;
+      // A digit shared by every key leaves the order as it is.
+      if (cp[(src[0] >> (kshift + p * b)) & mask] == std::uint32_t(n)) continue;
+      std::uint32_t s = 0;
+      for (std::size_t v = 0; v < nb; ++v) { const std::uint32_t t = cp[v]; cp[v] = s; s += t; }
+      if (W == 1) RadixPass<1>(src, dst, n, kshift + p * b, mask, cp);
+      else RadixPass<2>(src, dst, n, kshift + p * b, mask, cp);
+      std::swap(src, dst);
+    }
+    const int sy = bx, sz = bx + by;
+    const std::uint64_t mx = LowMask(bx), my = LowMask(by);
+    constexpr int kAhead = 16; // prefetch distance for the gather of centres
+    gather([&](int p, std::uint64_t &X, std::uint64_t &Y, std::uint64_t &Z) {
+      if (p + kAhead < n) {
+        const std::uint64_t *f = src + std::size_t(W) * (p + kAhead);
+        const std::size_t j = W == 1 ? std::uint32_t(f[0]) : f[1];
+        __builtin_prefetch(c + 3 * j);
+        if (radii) __builtin_prefetch(radii + j);
+      }
+      const std::uint64_t *r = src + std::size_t(W) * p;
+      const std::uint64_t k = W == 1 ? r[0] >> 32 : r[0];
+      X = k & mx;
+      Y = Shr(k, sy) & my;
+      Z = Shr(k, sz);
+      return W == 1 ? int(std::uint32_t(r[0])) : int(r[1]);
+    });
   } else {
     // More than 2^64 cells in the bounding box: comparison sort on (z, y, x).
-    for (int i = 0; i < n; ++i) order_[i] = i;
-    std::sort(order_.begin(), order_.end(), [this](std::int64_t a, std::int64_t b) {
+    ix_.resize(n);
+    iy_.resize(n);
+    iz_.resize(n);
+    order_.resize(n);
+    for (int i = 0; i < n; ++i) {
+      ix_[i] = index(c[3 * i], 0);
+      iy_[i] = index(c[3 * i + 1], 1);
+      iz_[i] = index(c[3 * i + 2], 2);
+      order_[i] = i;
+    }
+    std::sort(order_.begin(), order_.end(), [this](int a, int b) {
       return std::tie(iz_[a], iy_[a], ix_[a]) < std::tie(iz_[b], iy_[b], ix_[b]);
     });
-  }
-  // Element data in cell order, then runs of cells and rows.
-  x_.resize(n);
-  y_.resize(n);
-  z_.resize(n);
-  r_.resize(have_radii_ ? n : 0);
-  id_.resize(n);
-  for (int p = 0; p < n; ++p) {
-    const std::int64_t i = order_[p];
-    x_[p] = c[3 * i];
-    y_[p] = c[3 * i + 1];
-    z_[p] = c[3 * i + 2];
-    if (have_radii_) r_[p] = radii[i];
-    id_[p] = static_cast<int>(i);
-    const std::uint64_t X = ix_[i], Y = iy_[i], Z = iz_[i];
-    const bool new_row = p == 0 || Z != row_z_.back() || Y != row_y_.back();
-    if (new_row) {
-      row_cell_.push_back(static_cast<int>(cell_x_.size()));
-      row_z_.push_back(Z);
-      row_y_.push_back(Y);
-    }
-    if (new_row || X != cell_x_.back()) {
-      cell_start_.push_back(p);
-      cell_x_.push_back(X);
-    }
+    gather([&](int p, std::uint64_t &X, std::uint64_t &Y, std::uint64_t &Z) {
+      const int i = order_[p];
+      X = ix_[i];
+      Y = iy_[i];
+      Z = iz_[i];
+      return i;
+    });
   }
   cell_start_.push_back(n);
   row_cell_.push_back(static_cast<int>(cell_x_.size()));
-  cell_x_.push_back(~std::uint64_t(0)); // sentinel, not a cell
+  cell_x_.resize(cell_x_.size() + kWindow, ~std::uint64_t(0)); // sentinels, not cells
 }
+
+namespace {
+
+struct SearchView {
+  int nrows;
+  const int *row_cell, *cell_start, *id;
+  const std::uint64_t *row_z, *row_y, *cell_x;
+  const double *elem; // x, y, z, r per element
+  double d;
+};
+
+// The half mask (3.73) mirrored in x: the same row contributes the cell itself
+// and cell x+1, rows (z, y-1), (z-1, y-1), (z-1, y), (z-1, y+1) cells x-1..x+1.
+// (Every offset o != 0 has exactly one of o, -o in this set.) Cells of a row
+// are consecutive in element order, so the candidates of a cell are five
+// contiguous runs of elements. Their indices are listed in `buf`, the cell's
+// own elements first, and every own element is tested against the entries
+// after it in one branch-free loop.
+template <bool kRadii>
+std::size_t Search(const SearchView &v, std::vector<std::pair<int, int>> &pairs) {
+  constexpr int kDz[4] = {0, -1, -1, -1};
+  constexpr int kDy[4] = {-1, -1, 0, 1};
+  constexpr int kChunk = 8; // runs are listed kChunk indices at a time
+  constexpr int kWin = kWindow;
+  int ptr[4] = {0, 0, 0, 0};
+  int nb[4], q[4]; // neighbour row of each offset (-1: none) and its cell cursor
+  std::vector<int> buf(256);
+  std::size_t cnt = 0;
+  const int *cs = v.cell_start, *id = v.id;
+  const std::uint64_t *cx_of = v.cell_x;
+  const double *E = v.elem;
+  const double d = v.d;
+  for (int r = 0; r < v.nrows; ++r) {
+    const int c0 = v.row_cell[r], c1 = v.row_cell[r + 1];
+    const std::uint64_t rz = v.row_z[r], ry = v.row_y[r];
+    int nnb = 0;
+    for (int k = 0; k < 4; ++k) {
+      if ((kDz[k] < 0 && rz == 0) || (kDy[k] < 0 && ry == 0)) continue;
+      const std::uint64_t tz = rz + kDz[k], ty = ry + kDy[k];
+      int &p = ptr[k];
+      while (p < v.nrows && (v.row_z[p] < tz || (v.row_z[p] == tz && v.row_y[p] < ty))) ++p;
+      if (p < v.nrows && v.row_z[p] == tz && v.row_y[p] == ty) {
+        nb[nnb] = p;
+        q[nnb++] = v.row_cell[p];
+      }
+    }
+    for (int c = c0; c < c1; ++c) {
+      const std::uint64_t cx = cx_of[c];
+      const int b = cs[c], e = cs[c + 1];
+      int m = 0;
+      auto list = [&](int s, int t) {
+        const int len = t - s;
+        if (m + len + kChunk > static_cast<int>(buf.size())) buf.resize(2 * (m + len + kChunk));
+        int *o = buf.data() + m;
+        for (int u = 0; u < kChunk; ++u) o[u] = s + u;
+        for (int u = kChunk; u < len; ++u) o[u] = s + u;
+        m += len;
+      };
+      // Own cell, then cell x+1 of the same row if there is one (cx_of ends
+      // with a sentinel, so reading cx_of[c + 1] is in bounds).
+      const int next = (c + 1 < c1) & (cx_of[c + 1] == cx + 1);
+      list(b, cs[c + 1 + next]);
+      for (int k = 0; k < nnb; ++k) {
+        const int n1 = v.row_cell[nb[k] + 1];
+        // The cursor u moves to the first cell at x >= cx - 1 and w past the
+        // last at x <= cx + 1. Both counts are taken over a window of kWin
+        // cells read at once (independent loads, no branch); cell_x ends with
+        // kWin sentinels, so the window stays in bounds.
+        const int u0 = q[k];
+        int adv = 0, le = 0;
+        for (int t = 0; t < kWin; ++t) {
+          const std::uint64_t xt = cx_of[u0 + t];
+          const int in = u0 + t < n1;
+          adv += in & (xt + 1 < cx);
+          le += in & (xt <= cx + 1);
+        }
+        int u = u0 + adv, w = u0 + le;
+        if (le == kWin) { // the window was too short: walk on
+          while (u < n1 && cx_of[u] + 1 < cx) ++u;
+          w = u;
+          while (w < n1 && cx_of[w] <= cx + 1) ++w;
+        }
+        q[k] = u;
+        list(cs[u], cs[w]);
+      }
+      const int own = e - b;
+      const std::size_t most = std::size_t(own) * m;
+      if (cnt + most > pairs.size()) pairs.resize(cnt + most + 4096 + pairs.size() / 4);
+      std::pair<int, int> *out = pairs.data();
+      const int *L = buf.data();
+      for (int a = 0; a < own; ++a) {
+        const double *ei = E + 4 * std::size_t(b + a);
+        const double xi = ei[0], yi = ei[1], zi = ei[2], ri = ei[3];
+        const int ii = id[b + a];
+        for (int t = a + 1; t < m; ++t) {
+          const int j = L[t];
+          const double *ej = E + 4 * std::size_t(j);
+          const double s = kRadii ? ri + ej[3] : d;
+          const bool hit = (std::fabs(xi - ej[0]) <= s) & (std::fabs(yi - ej[1]) <= s) & (std::fabs(zi - ej[2]) <= s);
+          // Smaller index first, without a branch (ids are in random order).
+          const int jj = id[j];
+          const int lo = jj ^ ((ii ^ jj) & -int(ii < jj));
+          out[cnt] = {lo, ii ^ jj ^ lo};
+          cnt += hit;
+        }
+      }
+    }
+  }
+  return cnt;
+}
+
+} // namespace
 
 void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
   const int nrows = NumRows();
@@ -151,79 +345,9 @@ void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
     pairs.clear();
     return;
   }
-  // The book's half mask (3.73) as row offsets (dz, dy), each with cells
-  // x-1..x+1; the same row contributes the cell itself and cell x-1. Cells of a
-  // row are consecutive in element order, so each mask row is one contiguous
-  // range of elements, scanned with a branch-free test and append.
-  constexpr int kDz[4] = {0, -1, -1, -1};
-  constexpr int kDy[4] = {-1, -1, 0, 1};
-  int ptr[4] = {0, 0, 0, 0};
-  int nb[4], q[4]; // neighbour row of each offset (-1: none) and its cell cursor
-  std::size_t cnt = 0;
-  if (pairs.size() < std::size_t(n_)) pairs.resize(std::size_t(n_));
-  const double *X = x_.data(), *Y = y_.data(), *Z = z_.data(), *R = r_.data();
-  const int *id = id_.data();
-  const double d = cell_;
-  for (int r = 0; r < nrows; ++r) {
-    const int c0 = row_cell_[r], c1 = row_cell_[r + 1];
-    const std::uint64_t rz = row_z_[r], ry = row_y_[r];
-    for (int k = 0; k < 4; ++k) {
-      nb[k] = -1;
-      if ((kDz[k] < 0 && rz == 0) || (kDy[k] < 0 && ry == 0)) continue;
-      const std::uint64_t tz = rz + kDz[k], ty = ry + kDy[k];
-      int &p = ptr[k];
-      while (p < nrows && (row_z_[p] < tz || (row_z_[p] == tz && row_y_[p] < ty))) ++p;
-      if (p < nrows && row_z_[p] == tz && row_y_[p] == ty) {
-        nb[k] = p;
-        q[k] = row_cell_[p];
-      }
-    }
-    for (int c = c0; c < c1; ++c) {
-      const std::uint64_t cx = cell_x_[c];
-      int rb[5], re[5], nr = 0;
-      if (c > c0 && cell_x_[c - 1] + 1 == cx) {
-        rb[nr] = cell_start_[c - 1];
-        re[nr++] = cell_start_[c];
-      }
-      for (int k = 0; k < 4; ++k) {
-        if (nb[k] < 0) continue;
-        const int n1 = row_cell_[nb[k] + 1];
-        int &m = q[k];
-        while (m < n1 && cell_x_[m] + 1 < cx) ++m;
-        // At most three cells (distinct x) fall in x-1..x+1: branch-free count.
-        // cell_x_ ends with a sentinel, so reading at e == n1 is in bounds.
-        int e = m;
-        e += (e < n1) & (cell_x_[e] <= cx + 1);
-        e += (e < n1) & (cell_x_[e] <= cx + 1);
-        e += (e < n1) & (cell_x_[e] <= cx + 1);
-        if (e > m) {
-          rb[nr] = cell_start_[m];
-          re[nr++] = cell_start_[e];
-        }
-      }
-      const int b = cell_start_[c], e = cell_start_[c + 1];
-      std::size_t most = std::size_t(e - b) * (e - b);
-      for (int k = 0; k < nr; ++k) most += std::size_t(e - b) * (re[k] - rb[k]);
-      if (cnt + most > pairs.size()) pairs.resize(2 * (cnt + most));
-      std::pair<int, int> *out = pairs.data();
-      for (int i = b; i < e; ++i) {
-        const double xi = X[i], yi = Y[i], zi = Z[i];
-        const double ri = have_radii_ ? R[i] : 0.0;
-        const int ii = id[i];
-        auto scan = [&](int j0, int j1) {
-          for (int j = j0; j < j1; ++j) {
-            const double s = have_radii_ ? ri + R[j] : d;
-            const bool hit = (std::fabs(xi - X[j]) <= s) & (std::fabs(yi - Y[j]) <= s) & (std::fabs(zi - Z[j]) <= s);
-            const int jj = id[j];
-            out[cnt] = {ii < jj ? ii : jj, ii < jj ? jj : ii};
-            cnt += hit;
-          }
-        };
-        scan(i + 1, e);
-        for (int k = 0; k < nr; ++k) scan(rb[k], re[k]);
-      }
-    }
-  }
+  const SearchView v{nrows,         row_cell_.data(), cell_start_.data(), id_.data(), row_z_.data(),
+                     row_y_.data(), cell_x_.data(),   elem_.data(),      cell_};
+  const std::size_t cnt = have_radii_ ? Search<true>(v, pairs) : Search<false>(v, pairs);
   pairs.resize(cnt);
 }
 

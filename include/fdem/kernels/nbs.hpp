@@ -34,16 +34,13 @@ public:
   int NumRows() const { return static_cast<int>(row_cell_.size()) - 1; } // non-empty rows
 
 private:
-  struct KeyIndex {
-    std::uint64_t key;
-    std::int64_t index;
-  };
-
   int n_ = 0;
   double cell_ = 0;
   bool have_radii_ = false;
-  // Element data in cell order.
-  std::vector<double> x_, y_, z_, r_;
+  // Element data in cell order, four doubles each (x, y, z and the bounding
+  // radius, cell / 2 when no radii are given) so that a run of cells is one
+  // stream; and the caller's index of each element.
+  std::vector<double> elem_;
   std::vector<int> id_;
   // Non-empty cells in (z, y, x) order: first element and x index.
   std::vector<int> cell_start_;
@@ -51,11 +48,13 @@ private:
   // Non-empty rows (z, y): first cell; row_cell_ has one extra entry.
   std::vector<int> row_cell_;
   std::vector<std::uint64_t> row_z_, row_y_;
-  // Scratch.
-  std::vector<std::uint64_t> ix_, iy_, iz_;
-  std::vector<KeyIndex> sort_a_, sort_b_;
-  std::vector<std::int64_t> order_;
+  // Scratch: sort records (key << 32 | index when the key fits 32 bits,
+  // otherwise key and index in two words), digit counts, and the cell
+  // coordinates for the comparison-sort fallback.
+  std::vector<std::uint64_t> sort_a_, sort_b_;
   std::vector<std::uint32_t> count_;
+  std::vector<std::uint64_t> ix_, iy_, iz_;
+  std::vector<int> order_;
 };
 
 } // namespace fdem::kernels
