@@ -230,8 +230,8 @@ PetscErrorCode TestCubes() {
 // FDEMDeformableContactCheckTimeStep predicts a cd limit dt* = dt / ratio for the stiffest
 // case (flat contact of equal free bodies). Asserted: the ratio is linear in dt; at 0.8 dt*
 // the collision keeps the energy to 5%; at 4 dt* the contact pumps energy in (> 2 E0).
-// Measured (doc/contact_deformable.md): below 1.4 dt* the energy error stays < 3%; above,
-// the one-sided contact chatters and gains energy erratically (13% at 1.44, x3.9 at 3.2).
+// Measured (doc/contact_deformable.md): up to dt* the energy error stays within 2.4%; above,
+// the one-sided contact chatters and gains energy erratically (6% at 1.25, 36% at 1.6, x3.9 at 3.2).
 struct BlowWatch {
   FDEMDeformable        d;
   FDEMDeformableContact c;
