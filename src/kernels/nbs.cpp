@@ -23,6 +23,12 @@
 
 #include "fdem/kernels/error.hpp"
 
+#if defined(__GNUC__)
+#define FDEM_NOINLINE __attribute__((noinline))
+#else
+#define FDEM_NOINLINE
+#endif
+
 namespace fdem::kernels {
 namespace {
 
@@ -237,6 +243,32 @@ struct SearchView {
   double d;
 };
 
+// Tests each of the `own` elements b, b+1, ... (listed first in L) against
+// the entries of L after it; writes every candidate at out[cnt] and advances
+// cnt on a hit, so there is no branch on the outcome. A separate function, so
+// that the count stays in a register.
+template <bool kRadii>
+FDEM_NOINLINE std::size_t ScanCell(const double *E, const int *id, const int *L, int b, int own, int m, double d,
+                     std::pair<int, int> *out, std::size_t cnt) {
+  for (int a = 0; a < own; ++a) {
+    const double *ei = E + 4 * std::size_t(b + a);
+    const double xi = ei[0], yi = ei[1], zi = ei[2], ri = ei[3];
+    const int ii = id[b + a];
+    for (int t = a + 1; t < m; ++t) {
+      const int j = L[t];
+      const double *ej = E + 4 * std::size_t(j);
+      const double s = kRadii ? ri + ej[3] : d;
+      const bool hit = (std::fabs(xi - ej[0]) <= s) & (std::fabs(yi - ej[1]) <= s) & (std::fabs(zi - ej[2]) <= s);
+      // Smaller index first, without a branch (ids are in random order).
+      const int jj = id[j];
+      const int lo = jj ^ ((ii ^ jj) & -int(ii < jj));
+      out[cnt] = {lo, ii ^ jj ^ lo};
+      cnt += hit;
+    }
+  }
+  return cnt;
+}
+
 // The half mask (3.73) mirrored in x: the same row contributes the cell itself
 // and cell x+1, rows (z, y-1), (z-1, y-1), (z-1, y), (z-1, y+1) cells x-1..x+1.
 // (Every offset o != 0 has exactly one of o, -o in this set.) Cells of a row
@@ -311,27 +343,9 @@ std::size_t Search(const SearchView &v, std::vector<std::pair<int, int>> &pairs)
         q[k] = u;
         list(cs[u], cs[w]);
       }
-      const int own = e - b;
-      const std::size_t most = std::size_t(own) * m;
+      const std::size_t most = std::size_t(e - b) * m;
       if (cnt + most > pairs.size()) pairs.resize(cnt + most + 4096 + pairs.size() / 4);
-      std::pair<int, int> *out = pairs.data();
-      const int *L = buf.data();
-      for (int a = 0; a < own; ++a) {
-        const double *ei = E + 4 * std::size_t(b + a);
-        const double xi = ei[0], yi = ei[1], zi = ei[2], ri = ei[3];
-        const int ii = id[b + a];
-        for (int t = a + 1; t < m; ++t) {
-          const int j = L[t];
-          const double *ej = E + 4 * std::size_t(j);
-          const double s = kRadii ? ri + ej[3] : d;
-          const bool hit = (std::fabs(xi - ej[0]) <= s) & (std::fabs(yi - ej[1]) <= s) & (std::fabs(zi - ej[2]) <= s);
-          // Smaller index first, without a branch (ids are in random order).
-          const int jj = id[j];
-          const int lo = jj ^ ((ii ^ jj) & -int(ii < jj));
-          out[cnt] = {lo, ii ^ jj ^ lo};
-          cnt += hit;
-        }
-      }
+      cnt = ScanCell<kRadii>(E, id, buf.data(), b, e - b, m, d, pairs.data(), cnt);
     }
   }
   return cnt;

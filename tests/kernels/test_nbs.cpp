@@ -149,6 +149,66 @@ TEST(CellSearch, HugeCoordinateRange) {
   Check(line, nullptr, 1.0, "long line", 100);
 }
 
+TEST(CellSearch, OneAndTwoWordSortRecords) {
+  // The same dense cloud sorted with a key of <= 32 bits (one-word records)
+  // and, with two far elements added, of > 32 bits (key and index in two
+  // words): both must equal brute force, and the cloud's pairs must not change.
+  std::mt19937_64 rng(7);
+  std::vector<double> c = Uniform(rng, 2500, 12.0);
+  Check(c, nullptr, 1.0, "32-bit key", 1000);
+  const double far[6] = {1e5, 1e5, 0.5, 1e5 + 0.5, 1e5 - 0.5, 1.0}; // 17 + 17 + 4 bits
+  c.insert(c.end(), far, far + 6);
+  Check(c, nullptr, 1.0, "38-bit key", 1000);
+  // Duplicated centres in both layouts: every copy pairs with every other.
+  std::vector<double> dup;
+  for (int k = 0; k < 3; ++k) dup.insert(dup.end(), c.begin(), c.begin() + 3 * 400);
+  Check(dup, nullptr, 1.0, "duplicated centres", 3 * 400);
+}
+
+TEST(CellSearch, RowMergeLongJumps) {
+  // Two adjacent rows of cells: row y = 0 has every cell x = 0..199, row
+  // y = 1 only x = 0 and x = 150..199, and a layer below with runs and gaps of
+  // every length. Finding the neighbour cells x-1..x+1 in the other rows must
+  // jump over long gaps and long runs (past the row merge's fixed window).
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> J(0.05, 0.95);
+  std::vector<double> c;
+  auto put = [&](int x, int y, int z) {
+    c.push_back(x + J(rng));
+    c.push_back(y + J(rng));
+    c.push_back(z + J(rng));
+  };
+  for (int x = 0; x < 200; ++x) put(x, 0, 1);
+  put(0, 1, 1);
+  for (int x = 150; x < 200; ++x) put(x, 1, 1);
+  for (int x = 0, run = 1; x < 200; x += 2 * run, run = run % 9 + 1)
+    for (int k = 0; k < run && x + k < 200; ++k) {
+      put(x + k, 0, 0);
+      put(x + k, 1, 0);
+      put(x + k, 2, 0);
+    }
+  Check(c, nullptr, 1.0, "row merge", 200);
+  // The same with radii (the radii branch of the scan).
+  std::vector<double> r(c.size() / 3);
+  std::uniform_real_distribution<double> R(0, 0.5);
+  for (double &v : r) v = R(rng);
+  Check(c, &r, 1.0, "row merge, radii", 50);
+}
+
+TEST(CellSearch, IdsInReverseCellOrder) {
+  // Elements given in decreasing cell order, so that the caller's indices run
+  // against the sorted order: every pair must still come out as (i < j).
+  std::vector<double> c;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) {
+        c.push_back(9.0 - i + 0.3 * ((i + j + k) % 3));
+        c.push_back(9.0 - j);
+        c.push_back(9.0 - k);
+      }
+  Check(c, nullptr, 1.0, "reverse order", 1000);
+}
+
 TEST(CellSearch, SmallAndEmpty) {
   CellSearch cs;
   Pairs p{{1, 2}};
