@@ -106,8 +106,11 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   if (ext * inv > 4.0e18)
     throw InputError("CellSearch::Build: coordinate range / cell size exceeds 4e18 cells");
   // Cell index of coordinate v along axis d. It is monotone in v, so the
-  // largest index is that of the upper bound.
-  auto index = [&](double v, int d) { return static_cast<std::uint64_t>((v - lo[d]) * inv); };
+  // largest index is that of the upper bound. The value is in [0, 4e18], so
+  // the signed conversion (one instruction) is exact.
+  auto index = [&](double v, int d) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>((v - lo[d]) * inv));
+  };
   const int bx = BitsFor(index(hi[0], 0)), by = BitsFor(index(hi[1], 1)), bz = BitsFor(index(hi[2], 2));
   const int total = bx + by + bz;
   const double half = 0.5 * cell;
