@@ -211,6 +211,17 @@ void CheckPenalty(double p, const char *name) {
 
 } // namespace
 
+// True when every vertex of t lies strictly outside one face plane of the tetrahedron of f
+// (a barycentric coordinate negative at all four): the two convex tetrahedra are then
+// disjoint and every integral of the pair is zero. Most candidate pairs of a search end here.
+static bool SeparatedByFace(const Frame &f, const Tet4 &t) {
+  double lam[4][4];
+  for (int v = 0; v < 4; ++v) Barycentric(f, t[v], lam[v]);
+  for (int k = 0; k < 4; ++k)
+    if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return true;
+  return false;
+}
+
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out) {
   CheckPenalty(penalty_a, "a");
   CheckPenalty(penalty_b, "b");
@@ -219,6 +230,12 @@ bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, doubl
   MakeFrame(b, "b", fb);
   for (auto &v : out.fa) v = Vec3{};
   for (auto &v : out.fb) v = Vec3{};
+  if (SeparatedByFace(fa, b) || SeparatedByFace(fb, a)) {
+    out.energy = out.area = out.weight = 0;
+    out.point = Vec3{};
+    out.overlap = false;
+    return false;
+  }
   PassResult ab, ba;
   Pass(a, fb, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
   Pass(b, fa, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
