@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <vector>
 
 #include "fdem/kernels/contact.hpp"
 #include "fdem/kernels/error.hpp"
@@ -466,6 +467,43 @@ TEST(PotentialContact, PushesApartAndGrowsWithOverlap) {
     last = norm(F);
     lastE = c.energy;
   }
+}
+
+// The kernel returns zero at once when one tetrahedron lies outside a face plane of the
+// other. Approaching pairs must then show no jump at first contact: the energy grows
+// monotonically from zero, the first non-zero value is tiny against the value 20 steps on.
+TEST(PotentialContact, EnergyContinuousThroughFirstContact) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int pairs = 0;
+  double worst = 0;
+  while (pairs < 40) {
+    const Tet4 a = RandomTet(rng, 1.0);
+    const Tet4 b0 = RandomTet(rng, 0.8);
+    const Vec3 dir = Vec3{U(rng), U(rng), U(rng)};
+    if (norm(dir) < 0.2) continue;
+    const Vec3 u = (1.0 / norm(dir)) * dir;
+    // start 4 units away along u, walk back towards a's centroid
+    const Vec3 start = Centroid(a) - Centroid(b0) + 4.0 * u;
+    const double ds = 1e-3;
+    std::vector<double> E;
+    for (int k = 0; k < 5000; ++k) {
+      TetPairContact c;
+      PotentialContactForce(a, Shift(b0, start - (k * ds) * u), 1.0, 1.0, c);
+      E.push_back(c.energy);
+      if (E.size() > 21 && E[E.size() - 21] > 0) break;
+    }
+    size_t first = 0;
+    while (first < E.size() && E[first] == 0) ++first;
+    ASSERT_LT(first + 20, E.size()) << "pair " << pairs << " never touched";
+    ASSERT_GT(first, 0u) << "pair " << pairs << " overlaps at the start";
+    for (size_t k = first; k + 1 < E.size(); ++k) EXPECT_LE(E[k], E[k + 1] * (1 + 1e-12)) << "pair " << pairs << " step " << k;
+    const double r = E[first] / E[first + 20];
+    worst = std::max(worst, r);
+    EXPECT_LT(r, 1e-2) << "pair " << pairs << ": energy jumps at first contact";
+    ++pairs;
+  }
+  std::printf("  first-contact energy / energy 20 steps on: at most %.2e over %d pairs\n", worst, pairs);
 }
 
 // What the nodal forces are not: the gradient of the energy for deformations
