@@ -199,6 +199,7 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
         const std::uint64_t *f = src + std::size_t(W) * (p + kAhead);
         const std::size_t j = W == 1 ? std::uint32_t(f[0]) : f[1];
         __builtin_prefetch(c + 3 * j);
+        __builtin_prefetch(c + 3 * j + 2); // a centre may straddle two lines
         if (radii) __builtin_prefetch(radii + j);
       }
       const std::uint64_t *r = src + std::size_t(W) * p;

@@ -2,8 +2,8 @@
 // SPEC.md D.2) in its sort form. Elements are binned into cubic cells of a
 // common size d >= every element's diameter; the cell keys are ordered by z,
 // then y, then x with a radix sort, and every non-empty cell is checked
-// against itself and the 13 cells of the book's half mask (eq 3.73), found by
-// merging sorted rows. Every loop runs over elements, non-empty cells or
+// against itself and the 13 cells of a half mask (the book's, eq 3.73,
+// mirrored in x), found by merging sorted rows. Every loop runs over elements, non-empty cells or
 // non-empty rows -- never over empty cells -- so the cost is proportional to
 // N, independent of packing density, and memory is O(N) whatever the
 // coordinate range.
