@@ -6,6 +6,7 @@
 // doc/contact_deformable.md.
 #include "../model/deformable_impl.hpp"
 #include "../util/guard.hpp"
+#include "surface.hpp"
 #include <fdem/deformable_contact.h>
 #include <fdem/ts.h>
 #include <fdem/kernels/contact.hpp>
@@ -76,71 +77,6 @@ const PetscReal *VelAt(FDEMDeformableContact c, int i) {
 const PetscInt *StatAt(FDEMDeformableContact c, int i) {
   const int nl = NOwn(c);
   return i < nl ? &c->lstat[NI * (size_t)i] : &c->gstat[NI * (size_t)(i - nl)];
-}
-
-// Surface tetrahedra: local cells with a face that belongs to one cell in the
-// whole mesh. Faces seen once on this rank may be shared with a cell of
-// another rank: they are counted at a home rank chosen by hashing.
-PetscErrorCode FindSurface(FDEMDeformableContact c, const std::vector<PetscInt> &conn, const std::vector<PetscInt> &ngid, std::vector<char> &surf) {
-  using Face = std::array<PetscInt, 3>;
-  const PetscInt nc = (PetscInt)conn.size() / 4;
-  PetscFunctionBegin;
-  std::map<Face, int> local;
-  auto                face = [&](PetscInt e, int o) {
-    Face f;
-    int  k = 0;
-    for (int a = 0; a < 4; ++a)
-      if (a != o) f[k++] = ngid[conn[4 * e + a]];
-    std::sort(f.begin(), f.end());
-    return f;
-  };
-  for (PetscInt e = 0; e < nc; ++e)
-    for (int o = 0; o < 4; ++o) local[face(e, o)]++;
-  std::vector<Face>              once;
-  std::vector<std::vector<int>>  send(c->size);
-  std::vector<std::vector<Face>> sendf(c->size);
-  std::map<Face, int>            slot;
-  for (const auto &kv : local)
-    if (kv.second == 1) {
-      const unsigned long long h = (unsigned long long)kv.first[0] * 73856093ULL ^ (unsigned long long)kv.first[1] * 19349663ULL ^ (unsigned long long)kv.first[2] * 83492791ULL;
-      const int                r = (int)(h % (unsigned long long)c->size);
-      slot[kv.first]           = (int)sendf[r].size() * c->size + r;
-      sendf[r].push_back(kv.first);
-    }
-  std::vector<int> sc(c->size), rc(c->size), sd(c->size + 1, 0), rd(c->size + 1, 0);
-  for (int r = 0; r < c->size; ++r) sc[r] = 3 * (int)sendf[r].size();
-  PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, c->comm));
-  for (int r = 0; r < c->size; ++r) {
-    sd[r + 1] = sd[r] + sc[r];
-    rd[r + 1] = rd[r] + rc[r];
-  }
-  std::vector<PetscInt> sbuf(sd[c->size]), rbuf(rd[c->size]);
-  for (int r = 0; r < c->size; ++r)
-    for (size_t i = 0; i < sendf[r].size(); ++i)
-      for (int k = 0; k < 3; ++k) sbuf[sd[r] + 3 * i + k] = sendf[r][i][k];
-  PetscCallMPI(MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPIU_INT, rbuf.data(), rc.data(), rd.data(), MPIU_INT, c->comm));
-  std::map<Face, int> home;
-  for (int i = 0; i < rd[c->size]; i += 3) home[{rbuf[i], rbuf[i + 1], rbuf[i + 2]}]++;
-  std::vector<PetscInt> back(rd[c->size] / 3), got(sd[c->size] / 3);
-  for (int i = 0; i < rd[c->size]; i += 3) back[i / 3] = home[{rbuf[i], rbuf[i + 1], rbuf[i + 2]}];
-  for (int r = 0; r <= c->size; ++r) {
-    sd[r] /= 3;
-    rd[r] /= 3;
-  }
-  for (int r = 0; r < c->size; ++r) {
-    sc[r] = sd[r + 1] - sd[r];
-    rc[r] = rd[r + 1] - rd[r];
-  }
-  PetscCallMPI(MPI_Alltoallv(back.data(), rc.data(), rd.data(), MPIU_INT, got.data(), sc.data(), sd.data(), MPIU_INT, c->comm));
-  surf.assign(nc, 0);
-  for (PetscInt e = 0; e < nc; ++e)
-    for (int o = 0; o < 4; ++o) {
-      auto it = slot.find(face(e, o));
-      if (it == slot.end()) continue;
-      const int r = it->second % c->size, i = it->second / c->size;
-      if (got[sd[r] + i] == 1) surf[e] |= (char)(1 << o); // face o (opposite node o) is on the boundary
-    }
-  PetscFunctionReturn(0);
 }
 
 // Copy this rank's surface tetrahedra out of the hook's local vectors.
@@ -480,7 +416,7 @@ PetscErrorCode FDEMDeformableContactCreate(FDEMDeformable dfm, FDEMDeformableCon
   gid.resize(nc);
   ngid.resize(nlocal);
   PetscCall(FDEMDeformableGetLocalCells(dfm, &nc, &nlocal, conn.data(), body.data(), gid.data(), ngid.data()));
-  PetscCall(FindSurface(c, conn, ngid, surf));
+  PetscCall(fdem::contact::BoundaryFaces(c->comm, conn, ngid, surf));
   for (PetscInt e = 0; e < nc; ++e) {
     if (!surf[e]) continue;
     c->lconn.push_back({conn[4 * e], conn[4 * e + 1], conn[4 * e + 2], conn[4 * e + 3]});

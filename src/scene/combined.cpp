@@ -3,6 +3,7 @@
 // and doc/scene.md.
 #include "../model/deformable_impl.hpp"
 #include "../model/rigid_impl.hpp"
+#include "../contact/surface.hpp"
 #include <fdem/scene.h>
 #include <fdem/deformable_contact.h> // FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName
 #include <fdem/ts.h>
@@ -123,28 +124,9 @@ PetscErrorCode ContactSetUp(FDEMScene s) {
   PetscCall(FDEMDeformableGetLocalCells(s->dfm, &nc, &nlocal, nullptr, nullptr, nullptr, nullptr));
   std::vector<PetscInt> conn(4 * nc), body(nc), gid(nc), ng(nlocal);
   PetscCall(FDEMDeformableGetLocalCells(s->dfm, &nc, &nlocal, conn.data(), body.data(), gid.data(), ng.data()));
-  std::map<std::array<PetscInt, 3>, int> local;
-  for (PetscInt e = 0; e < nc; ++e)
-    for (int f = 0; f < 4; ++f) {
-      std::array<PetscInt, 3> k = {ng[conn[4 * e + (f + 1) % 4]], ng[conn[4 * e + (f + 2) % 4]], ng[conn[4 * e + (f + 3) % 4]]};
-      std::sort(k.begin(), k.end());
-      local[k]++;
-    }
-  std::vector<PetscInt> single;
-  for (const auto &kv : local)
-    if (kv.second == 1) single.insert(single.end(), kv.first.begin(), kv.first.end());
-  // faces on a partition boundary are single on two ranks: count them over all ranks (once, at set-up)
-  PetscMPIInt           ln = (PetscMPIInt)single.size();
-  std::vector<int>      cnt(s->size), dis(s->size + 1, 0);
-  PetscCallMPI(MPI_Allgather(&ln, 1, MPI_INT, cnt.data(), 1, MPI_INT, s->comm));
-  for (int r = 0; r < s->size; ++r) dis[r + 1] = dis[r] + cnt[r];
-  std::vector<PetscInt> all(dis[s->size]);
-  PetscCallMPI(MPI_Allgatherv(single.data(), ln, MPIU_INT, all.data(), cnt.data(), dis.data(), MPIU_INT, s->comm));
-  std::map<std::array<PetscInt, 3>, int> global;
-  for (size_t i = 0; i < all.size(); i += 3) global[{all[i], all[i + 1], all[i + 2]}]++;
-  std::set<PetscInt> bnodes;
-  for (const auto &kv : global)
-    if (kv.second == 1) bnodes.insert(kv.first.begin(), kv.first.end());
+  std::vector<char> surf, bnode;
+  PetscCall(fdem::contact::BoundaryFaces(s->comm, conn, ng, surf));
+  PetscCall(fdem::contact::BoundaryNodes(s->dfm, conn, surf, nlocal, bnode));
   // cells with a vertex on the boundary take part (a rigid corner may enter through an edge)
   c.cells.clear();
   c.cell_gid.clear();
@@ -152,7 +134,7 @@ PetscErrorCode ContactSetUp(FDEMScene s) {
   std::vector<char> used(nlocal, 0);
   for (PetscInt e = 0; e < nc; ++e) {
     bool on = false;
-    for (int k = 0; k < 4; ++k) on = on || bnodes.count(ng[conn[4 * e + k]]);
+    for (int k = 0; k < 4; ++k) on = on || bnode[conn[4 * e + k]];
     if (!on) continue;
     c.cells.push_back({(int)conn[4 * e], (int)conn[4 * e + 1], (int)conn[4 * e + 2], (int)conn[4 * e + 3]});
     c.cell_gid.push_back(gid[e]);
