@@ -6,6 +6,7 @@
 // doc/contact_deformable.md.
 #include "../model/deformable_impl.hpp"
 #include "../util/guard.hpp"
+#include "../util/halo.hpp"
 #include "surface.hpp"
 #include <fdem/deformable_contact.h>
 #include <fdem/ts.h>
@@ -179,33 +180,15 @@ PetscErrorCode Search(FDEMDeformableContact c, bool with_v) {
         }
       }
   }
-  std::vector<int> scount(c->size), rcount(c->size), sdis(c->size + 1, 0), rdis(c->size + 1, 0);
-  for (int s = 0; s < c->size; ++s) scount[s] = (int)send[s].size();
-  PetscCallMPI(MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, c->comm));
-  for (int s = 0; s < c->size; ++s) {
-    sdis[s + 1] = sdis[s] + scount[s];
-    rdis[s + 1] = rdis[s] + rcount[s];
-  }
-  std::vector<PetscInt> sbuf(sdis[c->size]), rbuf(rdis[c->size]);
-  for (int s = 0; s < c->size; ++s) std::copy(send[s].begin(), send[s].end(), sbuf.begin() + sdis[s]);
-  PetscCallMPI(MPI_Alltoallv(sbuf.data(), scount.data(), sdis.data(), MPIU_INT, rbuf.data(), rcount.data(), rdis.data(), MPIU_INT, c->comm));
+  std::vector<PetscSFNode> ghosts;
+  PetscCall(fdem::HaloExchange(c->comm, send, ghosts));
   // 2. the SF (12 reals per ghost) and the ghosts' static data (a one-off SF, NI integers each)
-  c->ng = rdis[c->size];
+  c->ng = (PetscInt)ghosts.size();
+  PetscCall(fdem::HaloSF(c->comm, nl, ghosts, 12, &c->sf));
   {
-    std::vector<PetscSFNode> r12(12 * (size_t)c->ng), rst(NI * (size_t)c->ng);
-    for (int s = 0; s < c->size; ++s)
-      for (int i = rdis[s]; i < rdis[s + 1]; ++i) {
-        for (int k = 0; k < 12; ++k) r12[12 * (size_t)i + k] = {s, 12 * rbuf[i] + k};
-        for (int k = 0; k < NI; ++k) rst[NI * (size_t)i + k] = {s, NI * rbuf[i] + k};
-      }
-    PetscCall(PetscSFDestroy(&c->sf));
-    PetscCall(PetscSFCreate(c->comm, &c->sf));
-    PetscCall(PetscSFSetGraph(c->sf, 12 * (PetscInt)nl, 12 * c->ng, nullptr, PETSC_COPY_VALUES, r12.data(), PETSC_COPY_VALUES));
-    PetscCall(PetscSFSetUp(c->sf));
-    PetscSF sfs;
+    PetscSF sfs = nullptr;
     c->gstat.resize(NI * (size_t)c->ng);
-    PetscCall(PetscSFCreate(c->comm, &sfs));
-    PetscCall(PetscSFSetGraph(sfs, NI * (PetscInt)nl, NI * c->ng, nullptr, PETSC_COPY_VALUES, rst.data(), PETSC_COPY_VALUES));
+    PetscCall(fdem::HaloSF(c->comm, nl, ghosts, NI, &sfs));
     PetscCall(PetscSFBcastBegin(sfs, MPIU_INT, c->lstat.data(), c->gstat.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(sfs, MPIU_INT, c->lstat.data(), c->gstat.data(), MPI_REPLACE));
     PetscCall(PetscSFDestroy(&sfs));

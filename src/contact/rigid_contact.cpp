@@ -2,6 +2,7 @@
 // cell search with a buffer, Munjiza's potential contact force, damping and
 // friction; forces and torques returned to the rigid model's momentum RHS.
 #include "../util/guard.hpp"
+#include "../util/halo.hpp"
 #include <fdem/contact.h>
 #include <petscsf.h>
 #include <fdem/ts.h>
@@ -115,32 +116,12 @@ PetscErrorCode Search(FDEMContact c) {
     NeededBy(rb, &c->root_state[NS * b], c->radius[b] + c->buffer, rmax_of, ranks);
     for (PetscMPIInt s : ranks) send[s].push_back(b);
   }
-  std::vector<int> scount(c->size), rcount(c->size), sdis(c->size + 1, 0), rdis(c->size + 1, 0);
-  for (int s = 0; s < c->size; ++s) scount[s] = (int)send[s].size();
-  PetscCallMPI(MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, c->comm));
-  for (int s = 0; s < c->size; ++s) {
-    sdis[s + 1] = sdis[s] + scount[s];
-    rdis[s + 1] = rdis[s] + rcount[s];
-  }
-  std::vector<PetscInt> sbuf(sdis[c->size]), rbuf(rdis[c->size]);
-  for (int s = 0; s < c->size; ++s) std::copy(send[s].begin(), send[s].end(), sbuf.begin() + sdis[s]);
-  PetscCallMPI(MPI_Alltoallv(sbuf.data(), scount.data(), sdis.data(), MPIU_INT, rbuf.data(), rcount.data(), rdis.data(), MPIU_INT, c->comm));
+  std::vector<PetscSFNode> ghosts;
+  PetscCall(fdem::HaloExchange(c->comm, send, ghosts));
   // 2. the SFs: leaves = ghost copies, roots = my bodies (NS reals each for states, NF for forces)
-  c->ng = rdis[c->size];
-  std::vector<PetscSFNode> rs(NS * c->ng), rf(NF * c->ng);
-  for (int s = 0; s < c->size; ++s)
-    for (int i = rdis[s]; i < rdis[s + 1]; ++i) {
-      for (int k = 0; k < NS; ++k) rs[NS * i + k] = {s, NS * rbuf[i] + k};
-      for (int k = 0; k < NF; ++k) rf[NF * i + k] = {s, NF * rbuf[i] + k};
-    }
-  PetscCall(PetscSFDestroy(&c->sf_state));
-  PetscCall(PetscSFDestroy(&c->sf_force));
-  PetscCall(PetscSFCreate(c->comm, &c->sf_state));
-  PetscCall(PetscSFSetGraph(c->sf_state, NS * n, NS * c->ng, nullptr, PETSC_COPY_VALUES, rs.data(), PETSC_COPY_VALUES));
-  PetscCall(PetscSFSetUp(c->sf_state));
-  PetscCall(PetscSFCreate(c->comm, &c->sf_force));
-  PetscCall(PetscSFSetGraph(c->sf_force, NF * n, NF * c->ng, nullptr, PETSC_COPY_VALUES, rf.data(), PETSC_COPY_VALUES));
-  PetscCall(PetscSFSetUp(c->sf_force));
+  c->ng = (PetscInt)ghosts.size();
+  PetscCall(fdem::HaloSF(c->comm, n, ghosts, NS, &c->sf_state));
+  PetscCall(fdem::HaloSF(c->comm, n, ghosts, NF, &c->sf_force));
   c->ghost_state.assign(NS * c->ng, 0);
   c->ghost_force.assign(NF * c->ng, 0);
   PetscCall(PetscSFBcastBegin(c->sf_state, MPIU_REAL, c->root_state.data(), c->ghost_state.data(), MPI_REPLACE));
@@ -152,13 +133,8 @@ PetscErrorCode Search(FDEMContact c) {
       root_static[2 * b]     = (PetscReal)c->skin[b];
       root_static[2 * b + 1] = c->radius[b];
     }
-    // reuse the force SF pattern on 2 of its NF slots would be obscure: a small SF for the static data
-    PetscSF                  sf;
-    std::vector<PetscSFNode> r2(2 * c->ng);
-    for (PetscInt i = 0; i < c->ng; ++i)
-      for (int k = 0; k < 2; ++k) r2[2 * i + k] = {rf[NF * i].rank, 2 * (rf[NF * i].index / NF) + k};
-    PetscCall(PetscSFCreate(c->comm, &sf));
-    PetscCall(PetscSFSetGraph(sf, 2 * n, 2 * c->ng, nullptr, PETSC_COPY_VALUES, r2.data(), PETSC_COPY_VALUES));
+    PetscSF sf = nullptr;
+    PetscCall(fdem::HaloSF(c->comm, n, ghosts, 2, &sf));
     PetscCall(PetscSFBcastBegin(sf, MPIU_REAL, root_static.data(), ghost_static.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(sf, MPIU_REAL, root_static.data(), ghost_static.data(), MPI_REPLACE));
     PetscCall(PetscSFDestroy(&sf));

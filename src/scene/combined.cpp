@@ -4,6 +4,7 @@
 #include "../model/deformable_impl.hpp"
 #include "../model/rigid_impl.hpp"
 #include "../contact/surface.hpp"
+#include "../util/halo.hpp"
 #include <fdem/scene.h>
 #include <fdem/deformable_contact.h> // FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName
 #include <fdem/ts.h>
@@ -270,42 +271,20 @@ PetscErrorCode ContactSearch(FDEMScene s, const PetscScalar *xl) {
     for (int r = 0; r < s->size; ++r)
       if (r != s->rank && Meets(&boxes[6 * (size_t)r], &c.root_state[NS * b], c.radius[b] + c.buffer)) send[r].push_back(b);
   }
-  std::vector<int> scount(s->size), rcount(s->size), sdis(s->size + 1, 0), rdis(s->size + 1, 0);
-  for (int r = 0; r < s->size; ++r) scount[r] = (int)send[r].size();
-  PetscCallMPI(MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, s->comm));
-  for (int r = 0; r < s->size; ++r) {
-    sdis[r + 1] = sdis[r] + scount[r];
-    rdis[r + 1] = rdis[r] + rcount[r];
-  }
-  std::vector<PetscInt> sbuf(sdis[s->size]), rbuf(rdis[s->size]);
-  for (int r = 0; r < s->size; ++r) std::copy(send[r].begin(), send[r].end(), sbuf.begin() + sdis[r]);
-  PetscCallMPI(MPI_Alltoallv(sbuf.data(), scount.data(), sdis.data(), MPIU_INT, rbuf.data(), rcount.data(), rdis.data(), MPIU_INT, s->comm));
+  std::vector<PetscSFNode> ghosts;
+  PetscCall(fdem::HaloExchange(s->comm, send, ghosts));
   // 3. the SFs: roots = my bodies, leaves = ghosts; and the ghosts' static data (skin, radius) once
-  c.ng = rdis[s->size];
+  c.ng = (PetscInt)ghosts.size();
   {
-    std::vector<PetscSFNode> rs(NS * (size_t)c.ng), rf(NF * (size_t)c.ng), r2(2 * (size_t)c.ng);
-    for (int r = 0; r < s->size; ++r)
-      for (int i = rdis[r]; i < rdis[r + 1]; ++i) {
-        for (int k = 0; k < NS; ++k) rs[NS * (size_t)i + k] = {r, NS * rbuf[i] + k};
-        for (int k = 0; k < NF; ++k) rf[NF * (size_t)i + k] = {r, NF * rbuf[i] + k};
-        for (int k = 0; k < 2; ++k) r2[2 * (size_t)i + k] = {r, 2 * rbuf[i] + k};
-      }
-    PetscCall(PetscSFDestroy(&c.sf_state));
-    PetscCall(PetscSFDestroy(&c.sf_force));
-    PetscCall(PetscSFCreate(s->comm, &c.sf_state));
-    PetscCall(PetscSFSetGraph(c.sf_state, NS * n, NS * c.ng, nullptr, PETSC_COPY_VALUES, rs.data(), PETSC_COPY_VALUES));
-    PetscCall(PetscSFSetUp(c.sf_state));
-    PetscCall(PetscSFCreate(s->comm, &c.sf_force));
-    PetscCall(PetscSFSetGraph(c.sf_force, NF * n, NF * c.ng, nullptr, PETSC_COPY_VALUES, rf.data(), PETSC_COPY_VALUES));
-    PetscCall(PetscSFSetUp(c.sf_force));
+    PetscCall(fdem::HaloSF(s->comm, n, ghosts, NS, &c.sf_state));
+    PetscCall(fdem::HaloSF(s->comm, n, ghosts, NF, &c.sf_force));
     std::vector<PetscReal> root_static(2 * (size_t)n), ghost_static(2 * (size_t)c.ng);
     for (PetscInt b = 0; b < n; ++b) {
       root_static[2 * b]     = (PetscReal)c.skin[b];
       root_static[2 * b + 1] = c.radius[b];
     }
-    PetscSF sf;
-    PetscCall(PetscSFCreate(s->comm, &sf));
-    PetscCall(PetscSFSetGraph(sf, 2 * n, 2 * c.ng, nullptr, PETSC_COPY_VALUES, r2.data(), PETSC_COPY_VALUES));
+    PetscSF sf = nullptr;
+    PetscCall(fdem::HaloSF(s->comm, n, ghosts, 2, &sf));
     PetscCall(PetscSFBcastBegin(sf, MPIU_REAL, root_static.data(), ghost_static.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(sf, MPIU_REAL, root_static.data(), ghost_static.data(), MPI_REPLACE));
     PetscCall(PetscSFDestroy(&sf));
