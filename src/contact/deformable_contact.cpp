@@ -18,9 +18,6 @@
 #include <array>
 #include <cmath>
 #include <functional>
-#include <map>
-#include <string>
-#include <unordered_map>
 #include <vector>
 
 using fdem::kernels::Tet4;

@@ -17,8 +17,6 @@
 #include <array>
 #include <cmath>
 #include <exception>
-#include <map>
-#include <set>
 #include <vector>
 
 using fdem::kernels::Mat3;
