@@ -7,6 +7,7 @@
 #include "../model/deformable_impl.hpp"
 #include "../util/guard.hpp"
 #include "../util/halo.hpp"
+#include "params.hpp"
 #include "surface.hpp"
 #include <fdem/deformable_contact.h>
 #include <fdem/ts.h>
@@ -449,25 +450,20 @@ PetscErrorCode FDEMDeformableContactDestroy(FDEMDeformableContact *c) {
 
 PetscErrorCode FDEMDeformableContactSetPenalty(FDEMDeformableContact c, PetscReal penalty) {
   PetscFunctionBegin;
-  PetscCheck(std::isfinite(penalty) && penalty > 0, c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Deformable contact: the penalty must be positive and finite, got %g", (double)penalty);
+  PetscCall(fdem::contact::CheckPenalty(c->comm, "Deformable contact", penalty));
   c->penalty = penalty;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FDEMDeformableContactSetDissipation(FDEMDeformableContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) {
   PetscFunctionBegin;
-  PetscCheck(damping >= 0 && std::isfinite(damping), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Deformable contact: the damping must be >= 0, got %g", (double)damping);
-  PetscCheck(friction >= 0 && std::isfinite(friction), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Deformable contact: the friction coefficient must be >= 0, got %g", (double)friction);
-  PetscCheck(tangential_viscosity >= 0 && std::isfinite(tangential_viscosity), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Deformable contact: the tangential viscosity must be >= 0, got %g", (double)tangential_viscosity);
-  c->diss.normal_damping       = damping;
-  c->diss.friction             = friction;
-  c->diss.tangential_viscosity = tangential_viscosity;
+  PetscCall(fdem::contact::SetDissipation(c->comm, "Deformable contact", damping, friction, tangential_viscosity, c->diss));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FDEMDeformableContactSetBuffer(FDEMDeformableContact c, PetscReal buffer) {
   PetscFunctionBegin;
-  PetscCheck(buffer >= 0 && std::isfinite(buffer), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Deformable contact: the search buffer must be >= 0, got %g", (double)buffer);
+  PetscCall(fdem::contact::CheckBuffer(c->comm, "Deformable contact", buffer));
   c->buffer   = buffer;
   c->searched = false;
   PetscFunctionReturn(0);

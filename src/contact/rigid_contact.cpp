@@ -3,6 +3,7 @@
 // friction; forces and torques returned to the rigid model's momentum RHS.
 #include "../util/guard.hpp"
 #include "../util/halo.hpp"
+#include "params.hpp"
 #include <fdem/contact.h>
 #include <petscsf.h>
 #include <fdem/ts.h>
@@ -392,25 +393,20 @@ PetscErrorCode FDEMContactDestroy(FDEMContact *c) {
 
 PetscErrorCode FDEMContactSetPenalty(FDEMContact c, PetscReal penalty) {
   PetscFunctionBegin;
-  PetscCheck(std::isfinite(penalty) && penalty > 0, c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Contact: the penalty must be positive and finite, got %g", (double)penalty);
+  PetscCall(fdem::contact::CheckPenalty(c->comm, "Contact", penalty));
   c->penalty = penalty;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FDEMContactSetDissipation(FDEMContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) {
   PetscFunctionBegin;
-  PetscCheck(damping >= 0 && std::isfinite(damping), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Contact: the damping must be >= 0, got %g", (double)damping);
-  PetscCheck(friction >= 0 && std::isfinite(friction), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Contact: the friction coefficient must be >= 0, got %g", (double)friction);
-  PetscCheck(tangential_viscosity >= 0 && std::isfinite(tangential_viscosity), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Contact: the tangential viscosity must be >= 0, got %g", (double)tangential_viscosity);
-  c->diss.normal_damping       = damping;
-  c->diss.friction             = friction;
-  c->diss.tangential_viscosity = tangential_viscosity;
+  PetscCall(fdem::contact::SetDissipation(c->comm, "Contact", damping, friction, tangential_viscosity, c->diss));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer) {
   PetscFunctionBegin;
-  PetscCheck(buffer >= 0 && std::isfinite(buffer), c->comm, PETSC_ERR_ARG_OUTOFRANGE, "Contact: the search buffer must be >= 0, got %g", (double)buffer);
+  PetscCall(fdem::contact::CheckBuffer(c->comm, "Contact", buffer));
   c->buffer = buffer;
   PetscFunctionReturn(0);
 }

@@ -5,6 +5,7 @@
 #include "../model/rigid_impl.hpp"
 #include "../contact/surface.hpp"
 #include "../util/halo.hpp"
+#include "../contact/params.hpp"
 #include <fdem/scene.h>
 #include <fdem/deformable_contact.h> // FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName
 #include <fdem/ts.h>
@@ -642,13 +643,10 @@ PetscErrorCode FDEMSceneSetDeformable(FDEMScene s, FDEMDeformable dfm) {
 PetscErrorCode FDEMSceneSetContact(FDEMScene s, PetscReal penalty, PetscReal damping, PetscReal friction, PetscReal buffer) {
   PetscFunctionBegin;
   PetscCheck(std::isfinite(penalty) && penalty >= 0, s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the contact penalty must be >= 0 (0: no contact), got %g", (double)penalty);
-  PetscCheck(std::isfinite(damping) && damping >= 0, s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the contact damping must be >= 0, got %g", (double)damping);
-  PetscCheck(std::isfinite(friction) && friction >= 0, s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the friction coefficient must be >= 0, got %g", (double)friction);
   PetscCheck(std::isfinite(buffer), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the search buffer must be finite");
-  s->c.penalty             = penalty > 0 ? penalty : -1;
-  s->c.diss.normal_damping = damping;
-  s->c.diss.friction       = friction;
-  s->c.buffer              = buffer;
+  PetscCall(fdem::contact::SetDissipation(s->comm, "FDEMScene contact", damping, friction, s->c.diss.tangential_viscosity, s->c.diss));
+  s->c.penalty = penalty > 0 ? penalty : -1;
+  s->c.buffer  = buffer;
   PetscFunctionReturn(0);
 }
 
@@ -662,9 +660,8 @@ PetscErrorCode FDEMSceneSetFromOptions(FDEMScene s) {
   PetscCall(PetscOptionsReal("-fdem_scene_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMSceneSetContact", ct, &ct, nullptr));
   PetscCall(PetscOptionsReal("-fdem_scene_contact_buffer", "Search buffer (length; < 0: automatic)", "FDEMSceneSetContact", buf, &buf, nullptr));
   PetscOptionsEnd();
-  PetscCheck(ct >= 0 && std::isfinite(ct), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the tangential viscosity must be >= 0, got %g", (double)ct);
   PetscCall(FDEMSceneSetContact(s, pen, damp, mu, buf));
-  s->c.diss.tangential_viscosity = ct;
+  PetscCall(fdem::contact::SetDissipation(s->comm, "FDEMScene contact", damp, mu, ct, s->c.diss));
   PetscFunctionReturn(0);
 }
 
