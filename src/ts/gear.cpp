@@ -15,6 +15,8 @@
 // to O(h^7). A change of h alone rescales the history (y_k *= (h_new/h)^k).
 #include "fdemts.hpp"
 
+#include <fdem/kernels/schemes.hpp>
+
 #include <array>
 #include <cmath>
 
@@ -30,9 +32,15 @@ struct TS_Gear : Common {
   PetscBool                started = PETSC_FALSE;
   PetscObjectState         state = 0;
   PetscReal                t_hist = 0, h_hist = 0;
-  PetscInt                 starts = 0;
+  PetscInt                 starts = 0, resumes = 0;
 };
 TS_Gear *Data(TS ts) { return static_cast<TS_Gear *>(static_cast<Common *>(ts->data)); }
+// The Nordsieck vector in momentum space: what a restart would rebuild.
+std::vector<Vec *> History(TS_Gear *G) {
+  std::vector<Vec *> v;
+  for (PetscInt k = 1; k <= G->nq; ++k) v.push_back(&G->y[k]);
+  return v;
+}
 
 PetscErrorCode GearStart(TS ts, TS_Gear *G, PetscReal h) {
   const PetscReal t0 = ts->ptime;
@@ -47,12 +55,12 @@ PetscErrorCode GearStart(TS ts, TS_Gear *G, PetscReal h) {
   PetscCall(VecScale(G->y[1], h));
   for (int j = -2; j <= 2; ++j) {
     if (!j) continue;
-    Vec q;
+    Split W(G->U_work, G);
     PetscCall(VecCopy(ts->vec_sol, G->U_work));
     PetscCall(AdvanceAccurate(ts, G, t0, j * h, G->startup_substeps * PetscAbsInt(j), G->U_work));
-    PetscCall(VecGetSubVector(G->U_work, G->is_q, &q));
-    PetscCall(Force(ts, G, t0 + j * h, q, fj[j + 2]));
-    PetscCall(VecRestoreSubVector(G->U_work, G->is_q, &q));
+    PetscCall(W.Get());
+    PetscCall(Force(ts, G, t0 + j * h, W.q, fj[j + 2]));
+    PetscCall(W.Restore());
   }
   // y_2 = h^2/2 f ; y_3 = h^3/6 f' ; y_4 = h^4/24 f'' ; y_5 = h^5/120 f'''
   PetscCall(VecAXPBY(G->y[2], h * h / 2, 0.0, fj[2]));
@@ -92,7 +100,20 @@ PetscErrorCode TSStep_Gear(TS ts) {
   Split            X(ts->vec_sol, G);
 
   PetscFunctionBegin;
+  PetscCall(BeginStep(ts, G));
   PetscCall(PetscObjectStateGet((PetscObject)ts->vec_sol, &state));
+  {
+    PetscReal t_kept, h_kept;
+    PetscBool resume;
+    PetscCall(ResumeHistory(ts, G, &t_kept, &h_kept, &resume));
+    if (resume && t_kept == t0) { // the history kept across TSReset belongs to this state
+      G->started = PETSC_TRUE;
+      G->state   = state;
+      G->t_hist  = t_kept;
+      G->h_hist  = h_kept;
+      G->resumes++;
+    }
+  }
   if (!G->started || state != G->state || t0 != G->t_hist) PetscCall(GearStart(ts, G, h));
   else if (h != G->h_hist) {
     PetscReal r = h / G->h_hist, s = 1;
@@ -134,23 +155,24 @@ PetscErrorCode TSStep_Gear(TS ts) {
 
 PetscErrorCode TSSetUp_Gear(TS ts) {
   TS_Gear *G = Data(ts);
-  Vec      p;
   PetscFunctionBegin;
   PetscCall(CommonSetUp(ts, G, PETSC_TRUE));
-  PetscCall(VecGetSubVector(ts->vec_sol, G->is_p, &p));
-  for (PetscInt k = 1; k <= G->nq; ++k) PetscCall(VecDuplicate(p, &G->y[k]));
-  PetscCall(VecDuplicate(p, &G->f));
-  PetscCall(VecDuplicate(p, &G->delta));
-  PetscCall(VecDuplicate(p, &G->sum));
-  PetscCall(VecRestoreSubVector(ts->vec_sol, G->is_p, &p));
+  for (PetscInt k = 1; k <= G->nq; ++k) PetscCall(VecDuplicate(G->p_work, &G->y[k]));
+  PetscCall(VecDuplicate(G->p_work, &G->f));
+  PetscCall(VecDuplicate(G->p_work, &G->delta));
+  PetscCall(VecDuplicate(G->p_work, &G->sum));
+  PetscCall(AdoptHistory(ts, G, History(G)));
   G->started = PETSC_FALSE;
-  G->starts  = 0;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode TSReset_Gear(TS ts) {
-  TS_Gear *G = Data(ts);
+  TS_Gear         *G = Data(ts);
+  PetscObjectState state = 0;
   PetscFunctionBegin;
+  if (ts->vec_sol) PetscCall(PetscObjectStateGet((PetscObject)ts->vec_sol, &state));
+  // keep the history for a set-up with the same splits (PETSc's re-set-up pattern)
+  if (G->started && ts->vec_sol && state == G->state && ts->ptime == G->t_hist) PetscCall(KeepHistory(ts, G, History(G), G->t_hist, G->h_hist));
   PetscCall(CommonReset(G));
   for (auto &v : G->y) PetscCall(VecDestroy(&v));
   PetscCall(VecDestroy(&G->f));
@@ -161,8 +183,10 @@ PetscErrorCode TSReset_Gear(TS ts) {
 }
 
 PetscErrorCode TSDestroy_Gear(TS ts) {
+  TS_Gear *G = Data(ts);
   PetscFunctionBegin;
   PetscCall(TSReset_Gear(ts));
+  PetscCall(DropHistory(G));
   PetscCall(CommonCompose(ts, PETSC_FALSE));
   delete Data(ts);
   ts->data = nullptr;
@@ -191,7 +215,8 @@ PetscErrorCode TSView_Gear(TS ts, PetscViewer viewer) {
   if (iascii) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "  Gear corrector (Table 5.1):"));
     for (PetscInt k = 0; k <= G->nq; ++k) PetscCall(PetscViewerASCIIPrintf(viewer, " a%" PetscInt_FMT "=%.6g", k, (double)G->alpha[k]));
-    PetscCall(PetscViewerASCIIPrintf(viewer, "\n  start-up: PEFRL with %" PetscInt_FMT " substeps per step (%" PetscInt_FMT " starts so far)\n", G->startup_substeps, G->starts));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "\n  start-up: PEFRL with %" PetscInt_FMT " substeps per step (%" PetscInt_FMT " starts so far; history kept across %" PetscInt_FMT " TSReset/TSSetUp with the same splits and state)\n",
+                                     G->startup_substeps, G->starts, G->resumes));
   }
   PetscFunctionReturn(0);
 }
@@ -227,9 +252,10 @@ PetscErrorCode RegisterGearTypes() {
   // order: the global order measured on a nonlinear problem (tests/ts/test_order); kcrit: the exact
   // spectral-radius limit (kernels/schemes.cpp). PC-4 grows at every h > 0 (rho - 1 < 1e-12 below
   // omega h = 0.017, 5e-7 at the book's 0.155), so its exact limit is 0.
-  FDEMSchemeInfo pc3{TSFDEMPC3, "Gear predictor-corrector PC-3 (5.108-5.110, Table 5.1)", 3, 1, 1, 0, 1.414214, 1.417};
-  FDEMSchemeInfo pc4{TSFDEMPC4, "Gear predictor-corrector PC-4 (5.108-5.110, Table 5.1)", 4, 1, 1, 0, 0.0, 0.155};
-  FDEMSchemeInfo pc5{TSFDEMPC5, "Gear predictor-corrector PC-5 (5.108-5.110, Table 5.1)", 5, 1, 1, 0, 0.312972, 0.3204};
+  using fdem::kernels::SchemeKcrit;
+  FDEMSchemeInfo pc3{TSFDEMPC3, "Gear predictor-corrector PC-3 (5.108-5.110, Table 5.1)", 3, 1, 1, 0, SchemeKcrit(TSFDEMPC3), 1.417};
+  FDEMSchemeInfo pc4{TSFDEMPC4, "Gear predictor-corrector PC-4 (5.108-5.110, Table 5.1)", 4, 1, 1, 0, SchemeKcrit(TSFDEMPC4), 0.155};
+  FDEMSchemeInfo pc5{TSFDEMPC5, "Gear predictor-corrector PC-5 (5.108-5.110, Table 5.1)", 5, 1, 1, 0, SchemeKcrit(TSFDEMPC5), 0.3204};
   PetscCall(RegisterSchemeInfo(pc3));
   PetscCall(RegisterSchemeInfo(pc4));
   PetscCall(RegisterSchemeInfo(pc5));

@@ -26,6 +26,7 @@ struct Scheme {
   std::string     name, description;
   std::vector<Op> ops;
   bool            fsal = false;
+  size_t          last_kick = 0, last_drift = 0; // the ops that write the step's final p and q
 };
 std::deque<Scheme> &Schemes() {
   static std::deque<Scheme> list; // a deque: registered schemes never move
@@ -54,6 +55,7 @@ PetscErrorCode TSStep_Splitting(TS ts) {
   Split            X(ts->vec_sol, S);
 
   PetscFunctionBegin;
+  PetscCall(BeginStep(ts, S));
   PetscCall(PetscObjectStateGet((PetscObject)ts->vec_sol, &state));
   const PetscBool reuse = (PetscBool)(S->use_fsal && sch.fsal && S->cache_valid && state == S->cache_state && t0 == S->cache_time);
   PetscCall(X.Get());
@@ -64,13 +66,16 @@ PetscErrorCode TSStep_Splitting(TS ts) {
         PetscCall(X.Restore());
         PetscCall(S->drift(ts, t, op.c * h, ts->vec_sol, S->drift_ctx));
         PetscCall(X.Get());
-      } else PetscCall(DriftDefault(ts, S, t, op.c * h, X.q, X.p));
+      } else PetscCall(DriftDefault(ts, S, t, op.c * h, X.q, X.p, (PetscBool)(i == sch.last_drift)));
       t += op.c * h;
       continue;
     }
     PetscCall(TSPreStage(ts, t));
     if (!(i == 0 && reuse)) PetscCall(Force(ts, S, t, X.q, S->a));
-    if (op.xi == 0) PetscCall(VecAXPY(X.p, op.c * h, S->a));
+    if (op.xi == 0 && i == sch.last_kick) {
+      PetscCall(AXPYScan(S, X.p, op.c * h, S->a));
+      S->scanned_p = S->check_step;
+    } else if (op.xi == 0) PetscCall(VecAXPY(X.p, op.c * h, S->a));
     else if (S->gradient == FDEM_GRADIENT_SHIFTED) {
       // c h a(x + (2 xi h^2 / c) a(x)) equals c h a + xi h^3 G to the scheme's order
       PetscCall(ShiftedForce(ts, S, t, ts->vec_sol, X.q, S->a, 2 * op.xi * h * h / op.c, S->G));
@@ -97,13 +102,10 @@ PetscErrorCode TSStep_Splitting(TS ts) {
 
 PetscErrorCode TSSetUp_Splitting(TS ts) {
   TS_Splitting *S = Data(ts);
-  Vec           p;
   PetscFunctionBegin;
   PetscCall(CommonSetUp(ts, S, PETSC_FALSE));
-  PetscCall(VecGetSubVector(ts->vec_sol, S->is_p, &p));
-  PetscCall(VecDuplicate(p, &S->a));
-  PetscCall(VecDuplicate(p, &S->G));
-  PetscCall(VecRestoreSubVector(ts->vec_sol, S->is_p, &p));
+  PetscCall(VecDuplicate(S->p_work, &S->a));
+  PetscCall(VecDuplicate(S->p_work, &S->G));
   S->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
@@ -201,6 +203,7 @@ PetscErrorCode Add(const char *name, const char *desc, PetscInt order, const cha
     s.ops.push_back({k, coef[i], xi});
     sum[k == 'K'] += coef[i];
     if (k == 'K') kicks++;
+    (k == 'K' ? s.last_kick : s.last_drift) = i;
     if (xi != 0) grads++;
   }
   PetscCheck(std::fabs(sum[0] - 1) < 1e-12 && std::fabs(sum[1] - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "Splitting scheme %s: drift coefficients sum to %g and kick coefficients to %g; both must sum to 1", name, (double)sum[0], (double)sum[1]);

@@ -19,6 +19,8 @@
 // solution was changed from outside or the step size changed.
 #include "fdemts.hpp"
 
+#include <fdem/kernels/schemes.hpp>
+
 #include <cmath>
 
 namespace fdem::ts {
@@ -30,13 +32,16 @@ struct TS_Taylor : Common {
   Kind             kind = Kind::T16;
   Vec              f = nullptr, f_old = nullptr, f_new = nullptr, x_old = nullptr;
   Vec              pa = nullptr, pb = nullptr, pz = nullptr, pr = nullptr, qa = nullptr, qb = nullptr, qz = nullptr, qr = nullptr;
-  PetscInt         startup_substeps = 32, tangent_max_it = 1000, tangent_its = 0, starts = 0;
+  PetscInt         startup_substeps = 32, tangent_max_it = 1000, tangent_its = 0, starts = 0, resumes = 0;
+  char             failure[512] = "";
   PetscReal        tangent_rtol = 1e-13;
   PetscBool        started = PETSC_FALSE;
   PetscObjectState state = 0;
   PetscReal        t_hist = 0, h_hist = 0;
 };
 TS_Taylor *Data(TS ts) { return static_cast<TS_Taylor *>(static_cast<Common *>(ts->data)); }
+// What a restart would rebuild: f at t, and f and x at t - h.
+std::vector<Vec *> History(TS_Taylor *T) { return {&T->f, &T->f_old, &T->x_old}; }
 
 // y = (I - c h^2 J)^-1 r at positions x, J = M^-1 df/dx (q space) or (df/dx) M^-1 (p space).
 PetscErrorCode TangentSolve(TS ts, TS_Taylor *T, PetscReal t, Vec x, PetscReal ch2, Vec r, Vec y, bool pspace, PetscBool *ok) {
@@ -63,12 +68,10 @@ PetscErrorCode TangentSolve(TS ts, TS_Taylor *T, PetscReal t, Vec x, PetscReal c
     if (diff <= T->tangent_rtol * nz || it >= T->tangent_max_it) break;
     if (it > 1 && diff >= prev && diff <= 1e-7 * nz) break; // at the floor set by round-off and finite differences
     if (it == 1) first = diff;
-    if (!(diff <= 1e3 * first)) { // diverging (or Inf/NaN)
-      PetscCheck(!ts->errorifstepfailed, PetscObjectComm((PetscObject)ts), PETSC_ERR_NOT_CONVERGED,
-                 "-ts_type %s: the tangent solve (I - c h^2 J) y = r diverges at t = %g: h = %g is beyond the scheme's stability limit omega*h < K_crit = %.4f; reduce -ts_dt", T->info.name,
-                 (double)t, (double)ts->time_step, (double)T->info.kcrit);
-      PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ts), "-ts_type %s: the tangent solve diverges at t = %g: h = %g is beyond the stability limit omega*h < K_crit = %.4f\n", T->info.name, (double)t,
-                            (double)ts->time_step, (double)T->info.kcrit));
+    if (!(diff <= 1e3 * first)) { // diverging (or Inf/NaN): the step fails (StepFailed, once the state is released)
+      char kc[64];
+      PetscCall(PetscSNPrintf(T->failure, sizeof(T->failure), "-ts_type %s: the tangent solve (I - c h^2 J) y = r diverges at t = %g: h = %g is beyond the scheme's stability limit omega*h < K_crit = %s; reduce -ts_dt",
+                              T->info.name, (double)t, (double)ts->time_step, KcritText(T, kc, sizeof(kc))));
       *ok = PETSC_FALSE;
       PetscFunctionReturn(0);
     }
@@ -85,13 +88,13 @@ PetscErrorCode TaylorStart(TS ts, TS_Taylor *T, PetscReal h) {
   PetscCall(Force(ts, T, t0, X.q, T->f));
   PetscCall(X.Restore());
   if (T->kind != Kind::T16) {
-    Vec q;
+    Split W(T->U_work, T);
     PetscCall(VecCopy(ts->vec_sol, T->U_work));
     PetscCall(AdvanceAccurate(ts, T, t0, -h, T->startup_substeps, T->U_work));
-    PetscCall(VecGetSubVector(T->U_work, T->is_q, &q));
-    PetscCall(Force(ts, T, t0 - h, q, T->f_old));
-    PetscCall(VecCopy(q, T->x_old));
-    PetscCall(VecRestoreSubVector(T->U_work, T->is_q, &q));
+    PetscCall(W.Get());
+    PetscCall(Force(ts, T, t0 - h, W.q, T->f_old));
+    PetscCall(VecCopy(W.q, T->x_old));
+    PetscCall(W.Restore());
   }
   T->started = PETSC_TRUE;
   T->h_hist  = h;
@@ -107,7 +110,20 @@ PetscErrorCode TSStep_Taylor(TS ts) {
   Split            X(ts->vec_sol, T);
 
   PetscFunctionBegin;
+  PetscCall(BeginStep(ts, T));
   PetscCall(PetscObjectStateGet((PetscObject)ts->vec_sol, &state));
+  {
+    PetscReal t_kept, h_kept;
+    PetscBool resume;
+    PetscCall(ResumeHistory(ts, T, &t_kept, &h_kept, &resume));
+    if (resume && t_kept == t0 && h_kept == h) { // the history kept across TSReset belongs to this state
+      T->started = PETSC_TRUE;
+      T->state   = state;
+      T->t_hist  = t_kept;
+      T->h_hist  = h_kept;
+      T->resumes++;
+    }
+  }
   if (!T->started || state != T->state || t0 != T->t_hist || h != T->h_hist) PetscCall(TaylorStart(ts, T, h));
   PetscCall(TSPreStage(ts, t0 + h));
   PetscCall(X.Get());
@@ -150,8 +166,8 @@ PetscErrorCode TSStep_Taylor(TS ts) {
   PetscCall(VecCopy(T->f_new, T->f));
   PetscCall(X.Restore());
   if (!ok) {
-    ts->reason = TS_DIVERGED_STEP_REJECTED;
     T->started = PETSC_FALSE;
+    PetscCall(StepFailed(ts, T, T->failure));
     PetscFunctionReturn(0);
   }
   Vec Ustage = ts->vec_sol;
@@ -166,24 +182,23 @@ PetscErrorCode TSStep_Taylor(TS ts) {
 
 PetscErrorCode TSSetUp_Taylor(TS ts) {
   TS_Taylor *T = Data(ts);
-  Vec        q, p;
   PetscFunctionBegin;
   PetscCall(CommonSetUp(ts, T, PETSC_TRUE));
-  PetscCall(VecGetSubVector(ts->vec_sol, T->is_q, &q));
-  PetscCall(VecGetSubVector(ts->vec_sol, T->is_p, &p));
-  for (Vec *v : {&T->f, &T->f_old, &T->f_new, &T->pa, &T->pb, &T->pz, &T->pr}) PetscCall(VecDuplicate(p, v));
-  for (Vec *v : {&T->x_old, &T->qa, &T->qb, &T->qz, &T->qr}) PetscCall(VecDuplicate(q, v));
-  PetscCall(VecRestoreSubVector(ts->vec_sol, T->is_q, &q));
-  PetscCall(VecRestoreSubVector(ts->vec_sol, T->is_p, &p));
+  for (Vec *v : {&T->f, &T->f_old, &T->f_new, &T->pa, &T->pb, &T->pz, &T->pr}) PetscCall(VecDuplicate(T->p_work, v));
+  for (Vec *v : {&T->x_old, &T->qa, &T->qb, &T->qz, &T->qr}) PetscCall(VecDuplicate(T->q_work, v));
+  PetscCall(AdoptHistory(ts, T, History(T)));
   T->started     = PETSC_FALSE;
-  T->starts      = 0;
   T->tangent_its = 0;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode TSReset_Taylor(TS ts) {
-  TS_Taylor *T = Data(ts);
+  TS_Taylor       *T = Data(ts);
+  PetscObjectState state = 0;
   PetscFunctionBegin;
+  if (ts->vec_sol) PetscCall(PetscObjectStateGet((PetscObject)ts->vec_sol, &state));
+  // keep the history for a set-up with the same splits (PETSc's re-set-up pattern)
+  if (T->started && ts->vec_sol && state == T->state && ts->ptime == T->t_hist) PetscCall(KeepHistory(ts, T, History(T), T->t_hist, T->h_hist));
   PetscCall(CommonReset(T));
   for (Vec *v : {&T->f, &T->f_old, &T->f_new, &T->pa, &T->pb, &T->pz, &T->pr, &T->x_old, &T->qa, &T->qb, &T->qz, &T->qr}) PetscCall(VecDestroy(v));
   T->started = PETSC_FALSE;
@@ -191,8 +206,10 @@ PetscErrorCode TSReset_Taylor(TS ts) {
 }
 
 PetscErrorCode TSDestroy_Taylor(TS ts) {
+  TS_Taylor *T = Data(ts);
   PetscFunctionBegin;
   PetscCall(TSReset_Taylor(ts));
+  PetscCall(DropHistory(T));
   PetscCall(CommonCompose(ts, PETSC_FALSE));
   delete Data(ts);
   ts->data = nullptr;
@@ -226,8 +243,9 @@ PetscErrorCode TSView_Taylor(TS ts, PetscViewer viewer) {
   PetscCall(CommonView(ts, T, viewer));
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
   if (iascii)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  tangent solve: fixed point to rtol %g (at most %" PetscInt_FMT " its; %" PetscInt_FMT " its so far); starts %" PetscInt_FMT "\n", (double)T->tangent_rtol,
-                                     T->tangent_max_it, T->tangent_its, T->starts));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  tangent solve: fixed point to rtol %g (at most %" PetscInt_FMT " its; %" PetscInt_FMT " its so far); starts %" PetscInt_FMT
+                                     "; history kept across %" PetscInt_FMT " TSReset/TSSetUp with the same splits and state\n",
+                                     (double)T->tangent_rtol, T->tangent_max_it, T->tangent_its, T->starts, T->resumes));
   PetscFunctionReturn(0);
 }
 
@@ -259,9 +277,10 @@ PetscErrorCode TSCreate_Taylor(TS ts) {
 
 PetscErrorCode RegisterTaylorTypes() {
   PetscFunctionBegin;
-  FDEMSchemeInfo t112{TSFDEMT112, "Taylor-type T-1/12 (5.102-5.103)", 3, 1, 1, 1, std::sqrt(6.0), 2.450};
-  FDEMSchemeInfo t16{TSFDEMT16, "Taylor-type T-1/6 (5.104-5.105)", 3, 1, 1, 2, 2.282783, 2.280};
-  FDEMSchemeInfo d112{TSFDEMD112, "Taylor-type D-1/12 (5.106-5.107)", 3, 1, 1, 1, std::sqrt(6.0), 2.450};
+  using fdem::kernels::SchemeKcrit;
+  FDEMSchemeInfo t112{TSFDEMT112, "Taylor-type T-1/12 (5.102-5.103)", 3, 1, 1, 1, SchemeKcrit(TSFDEMT112), 2.450};
+  FDEMSchemeInfo t16{TSFDEMT16, "Taylor-type T-1/6 (5.104-5.105)", 3, 1, 1, 2, SchemeKcrit(TSFDEMT16), 2.280};
+  FDEMSchemeInfo d112{TSFDEMD112, "Taylor-type D-1/12 (5.106-5.107)", 3, 1, 1, 1, SchemeKcrit(TSFDEMD112), 2.450};
   PetscCall(RegisterSchemeInfo(t112));
   PetscCall(RegisterSchemeInfo(t16));
   PetscCall(RegisterSchemeInfo(d112));

@@ -28,6 +28,11 @@ const std::vector<SplittingTable> &BuiltinSplittingTables();
 //  pcN: the Nordsieck vector (x, h v, h^2 a/2, ...).
 bool SchemeStepMatrix(const std::string &name, double K, std::vector<double> &A, int &n);
 
+// The exact stability limit (omega h)_crit of scheme `name`: the value
+// SchemeCriticalK finds, to 12 digits, stored (0 for PC-4, which grows at
+// every step size; -1 for an unknown name).
+double SchemeKcrit(const std::string &name);
+
 // Spectral radius of an n x n matrix by repeated squaring (relative accuracy ~1e-13).
 double SpectralRadius(const std::vector<double> &A, int n);
 double SchemeSpectralRadius(const std::string &name, double K);
