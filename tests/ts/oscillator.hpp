@@ -9,6 +9,7 @@ namespace osc {
 struct Oscillator {
   PetscReal omega2 = 1.0;
   IS        isq = nullptr, isp = nullptr;
+  PetscInt  nforce = 0; // momentum-RHS evaluations
 };
 
 inline PetscErrorCode RHSPosition(TS, PetscReal, Vec v, Vec dx, void *) {
@@ -20,6 +21,17 @@ inline PetscErrorCode RHSMomentum(TS, PetscReal, Vec x, Vec a, void *ctx) {
   PetscFunctionBeginUser;
   PetscCall(VecCopy(x, a));
   PetscCall(VecScale(a, -((Oscillator *)ctx)->omega2));
+  ((Oscillator *)ctx)->nforce++;
+  PetscFunctionReturn(0);
+}
+
+// The splits of the TS (again after a TSReset, which drops them).
+inline PetscErrorCode SetSplits(Oscillator *o, TS ts) {
+  PetscFunctionBeginUser;
+  PetscCall(TSRHSSplitSetIS(ts, "position", o->isq));
+  PetscCall(TSRHSSplitSetIS(ts, "momentum", o->isp));
+  PetscCall(TSRHSSplitSetRHSFunction(ts, "position", nullptr, RHSPosition, o));
+  PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, o));
   PetscFunctionReturn(0);
 }
 
