@@ -17,7 +17,7 @@
 // Output: CSV (-csv doc/bench/work_precision.csv) and, at the end, the two
 // headline figures:
 //   (1) wall time per step of -ts_type cd against basicsymplectic type 2,
-//       interleaved runs, with -ts_fdem_check_interval 1 and 10, plus a timing
+//       interleaved runs, with -ts_fdem_check_interval 1 and 10 (the default), plus a timing
 //       of the pieces of one step (the per-step overhead budget);
 //   (2) at equal wall time, the error of omf32 against basicsymplectic type 4.
 //
@@ -229,12 +229,14 @@ PetscErrorCode HeadlineCD(Problem &P, PetscInt nsteps, int R, Printer &out, doub
     std::vector<double> per_step;
   };
   std::vector<Variant> v = {
-    {"cd (check_interval 1, default)", {"cd", "cd", "", "", 2, 0, 0, "fdem"}, "hl1_"},
-    {"cd (check_interval 10)", {"cd", "cd", "", "", 2, 0, 0, "fdem"}, "hl10_"},
-    {"basicsymplectic 2", {"bs2", "basicsymplectic", "2", "", 2, 0, 0, "petsc"}, "hl1_"},
-    {"pv (check_interval 1)", {"pv", "pv", "", "", 2, 0, 0, "fdem"}, "hl1_"},
+    {"cd (check_interval 1)", {"cd", "cd", "", "", 2, 0, 0, "fdem"}, "hl1_"},
+    {"cd (check_interval 10, default)", {"cd", "cd", "", "", 2, 0, 0, "fdem"}, "hl10_"},
+    {"basicsymplectic 2", {"bs2", "basicsymplectic", "2", "", 2, 0, 0, "petsc"}, "hl10_"},
+    {"pv (check_interval 10, default)", {"pv", "pv", "", "", 2, 0, 0, "fdem"}, "hl10_"},
   };
   PetscFunctionBeginUser;
+  // the interval is set explicitly for both rows (a run's options may not change it)
+  PetscCall(PetscOptionsSetValue(nullptr, "-hl1_ts_fdem_check_interval", "1"));
   PetscCall(PetscOptionsSetValue(nullptr, "-hl10_ts_fdem_check_interval", "10"));
   for (auto &x : v) PetscCall(MakeTS(P, x.spec, nsteps, x.prefix, &x.ts));
   for (int r = 0; r < R; ++r)
@@ -246,6 +248,7 @@ PetscErrorCode HeadlineCD(Problem &P, PetscInt nsteps, int R, Printer &out, doub
       x.per_step.push_back(w / nsteps);
     }
   for (auto &x : v) PetscCall(TSDestroy(&x.ts));
+  PetscCall(PetscOptionsClearValue(nullptr, "-hl1_ts_fdem_check_interval"));
   PetscCall(PetscOptionsClearValue(nullptr, "-hl10_ts_fdem_check_interval"));
   out("\n(1) wall time per step, N = %d particles (state: %d entries), %d steps of h = %g per run, %d interleaved rounds\n", (int)P.chain.N, (int)(2 * P.chain.N), (int)nsteps,
       (double)(P.T / nsteps), R);
@@ -255,9 +258,10 @@ PetscErrorCode HeadlineCD(Problem &P, PetscInt nsteps, int R, Printer &out, doub
     const double mn = *std::min_element(x.per_step.begin(), x.per_step.end()), md = Median(x.per_step), mx = *std::max_element(x.per_step.begin(), x.per_step.end());
     out("    %-32s %12.4f %12.4f %12.4f %10.4f %10.4f\n", x.label, 1e3 * mn, 1e3 * md, 1e3 * mx, mn / bmin, md / bmed);
   }
-  out("    cd per step, check_interval 1 minus check_interval 10: %.4f ms (median), i.e. 0.9 of an Inf/NaN check costs that much\n", 1e3 * (Median(v[0].per_step) - Median(v[1].per_step)));
-  *ratio_min = *std::min_element(v[0].per_step.begin(), v[0].per_step.end()) / bmin;
-  *ratio_med = Median(v[0].per_step) / bmed;
+  out("    cd per step, check_interval 1 minus check_interval 10: %.4f ms (median), i.e. 0.9 of an Inf/NaN check costs that much (folded into the last kick and drift)\n", 1e3 * (Median(v[0].per_step) - Median(v[1].per_step)));
+  // the headline: cd as run by default (check every 10 steps)
+  *ratio_min = *std::min_element(v[1].per_step.begin(), v[1].per_step.end()) / bmin;
+  *ratio_med = Median(v[1].per_step) / bmed;
   PetscFunctionReturn(0);
 }
 
@@ -567,7 +571,7 @@ int main(int argc, char **argv) {
       }
     }
   }
-  out("\nHEADLINE (1): wall time per step cd / basicsymplectic-2 = %.4f (median), %.4f (min); target <= 1.05\n", hl_ratio_med, hl_ratio_min);
+  out("\nHEADLINE (1): wall time per step cd (default check interval) / basicsymplectic-2 = %.4f (median), %.4f (min); target <= 1.05\n", hl_ratio_med, hl_ratio_min);
   out("HEADLINE (2): at equal wall time %.4g s, err(basicsymplectic-4) / err(omf32) = %.1f; target >= 100\n", t_star, hl2);
   if (summary[0]) {
     FILE *f;

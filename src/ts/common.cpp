@@ -549,7 +549,14 @@ PetscErrorCode AXPYScan(Common *c, Vec y, PetscReal a, Vec x) {
     PetscScalar    sa = a;
     PetscCall(PetscBLASIntCast(m, &bm));
     if (a != 0) PetscCallBLAS("BLASaxpy", BLASaxpy_(&bm, &sa, px + i0, &one, py + i0, &one));
-    for (PetscInt i = i0; i < i0 + m; ++i) scan += 0 * PetscRealPart(py[i]); // 0 for a finite entry, NaN for Inf or NaN
+    // 0 * y is 0 for a finite entry and NaN for Inf or NaN; eight independent
+    // sums so that the scan is not one chain of dependent additions
+    PetscReal s8[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    PetscInt  i     = i0;
+    for (; i + 8 <= i0 + m; i += 8)
+      for (int k = 0; k < 8; ++k) s8[k] += 0 * PetscRealPart(py[i + k]);
+    for (; i < i0 + m; ++i) s8[0] += 0 * PetscRealPart(py[i]);
+    for (int k = 0; k < 8; ++k) scan += s8[k];
   }
   PetscCall(VecRestoreArrayRead(x, &px));
   PetscCall(VecRestoreArray(y, &py));
