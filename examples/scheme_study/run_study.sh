@@ -2,7 +2,8 @@
 # Runs the full scheme study (Munjiza section 5.3; doc/schemes.md) and plots it.
 #   examples/scheme_study/run_study.sh [BUILD_DIR] [OUTDIR] [extra scheme_study options]
 # BUILD_DIR defaults to build (the program is BUILD_DIR/examples/scheme_study/scheme_study),
-# OUTDIR to doc/study. Takes about 1.5 minutes on one core. The printed tables are
+# OUTDIR to doc/study. Takes about half a minute of CPU (-timing_runs N: the cost
+# figure is the best of N untimed repeats, default 3; 0 skips them). The printed tables are
 # kept in OUTDIR/summary.txt (the library's messages about the deliberately
 # unstable runs are dropped).
 set -e

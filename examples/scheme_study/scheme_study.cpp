@@ -14,8 +14,9 @@
 //   Fig 5.18   amplification factor vs K = omega h in (0, 6]
 //   Fig 5.19   period error after 1000 periods vs K in (0, 1.4]   (5.122-5.123)
 //   Fig 5.20   amplitude error after 1000 periods vs K in (0, 1.4] (5.124-5.125)
-//   Fig 5.21   wall time of TSSolve over 1000 periods (best of -timing_runs runs
-//              without the recording post-step; PetscTime) and RHS evaluations
+//   Fig 5.21   wall time of TSSolve over 1000 periods (best of -timing_runs runs,
+//              default 3, without the recording post-step; 0: the recorded run's
+//              own time; PetscTime) and RHS evaluations
 //              (FDEMTSGetForceEvaluations) vs amplitude error
 //
 // Measurement details (see doc/schemes.md):
