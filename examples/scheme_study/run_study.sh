@@ -20,7 +20,7 @@ if [ ! -x "$exe" ]; then
 fi
 mkdir -p "$out"
 log=$(mktemp)
-"$exe" -outdir "$out" "$@" > "$log" 2>&1 || { tail -20 "$log" >&2; echo "(full log: $log)" >&2; exit 1; }
+"$exe" -fdem_output "$out" "$@" > "$log" 2>&1 || { tail -20 "$log" >&2; echo "(full log: $log)" >&2; exit 1; }
 grep -v -e 'diverges' -e 'Inf or NaN' "$log" | tee "$out/summary.txt"
 rm -f "$log"
 # a python with matplotlib (the distribution's, if the default python lacks it)

@@ -452,14 +452,21 @@ int main(int argc, char **argv) {
 
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   PetscCall(FDEMInitializePackage());
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-quick", &quick));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-outdir", outdir, sizeof outdir, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-eps", &eps, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-amp_dk", &amp_dk, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-err_dk", &err_dk, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-periods", &periods, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-timing_runs", &timing, nullptr));
-  PetscCall(PetscOptionsGetStringArray(nullptr, nullptr, "-schemes", names, &nnames, &have_names));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Section 5.3 study of the explicit schemes (Table 5.2, Figs 5.18-5.21)", nullptr);
+  PetscCall(PetscOptionsBool("-fdem_quick", "coarser K grid, no CSV files (the CTest run)", nullptr, quick, &quick, nullptr));
+  PetscCall(PetscOptionsString("-fdem_output", "folder for the CSV files", nullptr, outdir, outdir, sizeof outdir, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_study_eps", "threshold 1 + eps on the amplification factor (5.121) that defines K_crit", nullptr, eps, &eps, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_study_amp_dk", "K spacing of the amplification chart (Fig 5.18)", nullptr, amp_dk, &amp_dk, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_study_err_dk", "K spacing of the period and amplitude error charts (Figs 5.19-5.20)", nullptr, err_dk, &err_dk, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_study_periods", "periods integrated for the error charts", nullptr, periods, &periods, nullptr));
+  PetscCall(PetscOptionsInt("-timing_runs", "untimed repeats whose best gives the cost figure (0: none)", nullptr, timing, &timing, nullptr));
+  PetscCall(PetscOptionsStringArray("-fdem_study_schemes", "schemes to study (default: all 13)", nullptr, names, &nnames, &have_names));
+  PetscOptionsEnd();
+  PetscCheck(std::isfinite((double)eps) && eps > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Option -fdem_study_eps = %g is out of range: it must be a finite number in (0, inf)", (double)eps);
+  PetscCheck(std::isfinite((double)amp_dk) && amp_dk > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Option -fdem_study_amp_dk = %g is out of range: it must be a finite number in (0, inf)", (double)amp_dk);
+  PetscCheck(std::isfinite((double)err_dk) && err_dk > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Option -fdem_study_err_dk = %g is out of range: it must be a finite number in (0, inf)", (double)err_dk);
+  PetscCheck(std::isfinite((double)periods) && periods > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Option -fdem_study_periods = %g is out of range: it must be a finite number in (0, inf)", (double)periods);
+  PetscCheck(timing >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Option -timing_runs = %" PetscInt_FMT " is out of range: it must be >= 0", timing);
   if (have_names) {
     for (PetscInt i = 0; i < nnames; ++i) {
       schemes.push_back(names[i]);
