@@ -21,6 +21,7 @@ struct TetMesh {
   std::vector<std::array<int, 4>> tets;
   std::vector<int> body;                // body id per tetrahedron, 0..n_bodies-1
   std::vector<std::string> body_names;  // per body id (physical name, or "component_<i>")
+  std::vector<std::string> warnings;    // reader: legitimate but unusual input, "file:line: what"
   int NumBodies() const { return static_cast<int>(body_names.size()); }
 };
 
