@@ -405,6 +405,53 @@ void CheckRepeatedTets(const MshReader &r, const std::vector<RawTet> &raw) {
                        ") given twice");
 }
 
+// Faces of the (positively oriented) tetrahedra: a face in more than two
+// tetrahedra, or in two that lie on the same side of it (they overlap), is an
+// error naming the elements, their lines and the face's nodes (first in file order).
+void CheckSharedFaces(const MshReader &r, const std::vector<RawTet> &raw, const TetMesh &mesh,
+                      const std::vector<const RawNode *> &src) {
+  static const int F[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward
+  struct Face {
+    std::array<int, 3> key;  // sorted mesh nodes
+    int tet, parity;         // parity of the outward orientation relative to key
+  };
+  std::vector<Face> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (int t = 0; t < static_cast<int>(mesh.tets.size()); ++t)
+    for (const auto &f : F) {
+      const auto &n = mesh.tets[t];
+      const std::array<int, 3> o{n[f[0]], n[f[1]], n[f[2]]};
+      std::array<int, 3> k = o;
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, t, ((o[0] > o[1]) + (o[0] > o[2]) + (o[1] > o[2])) % 2});
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) { return a.key < b.key || (a.key == b.key && a.tet < b.tet); });
+  long worst = -1;
+  std::string what;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    const bool too_many = j - i > 2, same_side = j - i == 2 && faces[i].parity == faces[i + 1].parity;
+    if (too_many || same_side) {
+      const RawTet &a = raw[faces[i].tet], &b = raw[faces[i + 1].tet];
+      const RawTet &last = raw[faces[too_many ? i + 2 : i + 1].tet];
+      if (worst < 0 || last.line < worst) {
+        worst = last.line;
+        std::string face = "face (nodes";
+        for (int m : faces[i].key) face += " " + std::to_string(src[m]->tag);
+        face += ")";
+        what = too_many ? "element " + std::to_string(last.tag) + " has a " + face + " that elements " + std::to_string(a.tag) +
+                              " (line " + std::to_string(a.line) + ") and " + std::to_string(b.tag) + " (line " +
+                              std::to_string(b.line) + ") already share: a face belongs to at most two tetrahedra (overlapping elements)"
+                        : "element " + std::to_string(b.tag) + " and element " + std::to_string(a.tag) + " (line " +
+                              std::to_string(a.line) + ") lie on the same side of their shared " + face + ": they overlap";
+      }
+    }
+    i = j;
+  }
+  if (worst >= 0) r.FailAt(worst, what);
+}
+
 // Distinct nodes at exactly the same coordinates. Within one body that is a
 // seam the mesh falls apart at (an error); between two bodies it is legitimate
 // (bodies meshed separately that touch) and gives one warning for the file.
@@ -707,8 +754,10 @@ TetMesh Parse(MshReader &r) {
     if (Degenerate(v6, h)) r.FailAt(t.line, "degenerate tetrahedron (zero volume)");
     if (v6 < 0) std::swap(n[1], n[2]);
     mesh.tets.push_back(n);
+    mesh.tet_line.push_back(t.line);
   }
   CheckRepeatedTets(r, raw);
+  CheckSharedFaces(r, raw, mesh, src);
 
   if (any_phys) {
     std::map<long, int> body_of;

@@ -485,3 +485,19 @@ TEST(Gmsh, CoincidentNodesAreAnErrorInOneBodyAndAWarningBetweenTwo) {
   // A valid mesh has no warnings.
   EXPECT_TRUE(Parse(WriteMsh41(TwoBodies(), true)).warnings.empty());
 }
+
+TEST(Gmsh, RejectsOverlappingTetrahedra) {
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  // Nodes 5 and 6 on the same side of face 1-2-3 (z > 0); node 7 below it.
+  const std::string nodes =
+      "$Nodes\n7\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0.2 0.2 0.5\n6 0.1 0.1 2\n7 0.2 0.2 -1\n$EndNodes\n";  // 4-13
+  // Two tetrahedra on the same side of their shared face: accepted before (volume counted twice).
+  ExpectParseError(fmt22 + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 1 3 2 5\n$EndElements\n", 17,
+                   "element 2 and element 1 (line 16) lie on the same side of their shared face (nodes 1 2 3): they overlap");
+  // Three tetrahedra on one face.
+  ExpectParseError(fmt22 + nodes + "$Elements\n3\n1 4 0 1 2 3 4\n2 4 0 1 2 3 7\n3 4 0 1 2 3 6\n$EndElements\n", 18,
+                   "element 3 has a face (nodes 1 2 3) that elements 1 (line 16) and 2 (line 17) already share");
+  // One on each side is a valid mesh; tet_line gives each tetrahedron's line.
+  const TetMesh m = Parse(fmt22 + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 1 2 3 7\n$EndElements\n");
+  EXPECT_EQ(m.tet_line, (std::vector<long>{16, 17}));
+}
