@@ -343,14 +343,14 @@ public:
     if (out.size() < min_count)
       Fail(std::string("malformed ") + what + ": expected at least " + std::to_string(min_count) + " integers, got '" + s + "'");
   }
-  // `count` finite reals at the start of s (a number out of the double range,
-  // nan or inf is an error). Returns the rest of the line.
-  const char *Reals(const char *s, double *out, int count, const char *what) const {
-    const char *p = s;
+  // `count` finite reals from `from` on (a position in `line`; a number out of
+  // the double range, nan or inf is an error). Returns the rest of the line.
+  const char *Reals(const std::string &line, const char *from, double *out, int count, const char *what) const {
+    const char *p = from;
     char *end;
     for (int i = 0; i < count; ++i) {
       out[i] = std::strtod(p, &end);
-      if (end == p || (*end && *end != ' ' && *end != '\t')) Fail(std::string("malformed ") + what + ": '" + s + "'");
+      if (end == p || (*end && *end != ' ' && *end != '\t')) Fail(std::string("malformed ") + what + ": '" + line + "'");
       if (!std::isfinite(out[i]))
         Fail(std::string(what) + ": value '" + MshReader::Trim(std::string(p, static_cast<const char *>(end))) + "' is not a finite number");
       p = end;
@@ -578,7 +578,7 @@ TetMesh Parse(MshReader &r) {
         const long tag = std::strtol(p, &e, 10);
         if (e == p || errno) r.Fail("malformed volume entity line '" + s + "'");
         double box[6];
-        p = r.Reals(e, box, 6, "volume entity line (expected: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags...)");
+        p = r.Reals(s, e, box, 6, "volume entity line (expected: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags...)");
         r.Ints(p, ints, 1, "volume entity line");
         const long nphys = ints[0];
         if (nphys < 0 || nphys > static_cast<long>(ints.size()) - 1)
@@ -608,7 +608,7 @@ TetMesh Parse(MshReader &r) {
           const long tag = std::strtol(p, &e, 10);
           if (e == p || errno) r.Fail("malformed node line '" + s + "' (expected: tag x y z)");
           double x[3];
-          r.Reals(e, x, 3, "node line (expected: tag x y z)");
+          r.Reals(s, e, x, 3, "node line (expected: tag x y z)");
           add(tag, r.line(), x);
         }
       } else {
@@ -629,7 +629,7 @@ TetMesh Parse(MshReader &r) {
           for (long i = 0; i < nb; ++i) {
             r.Line(sec, s);
             double x[3];
-            r.Reals(s.c_str(), x, 3, "node coordinates");
+            r.Reals(s, s.c_str(), x, 3, "node coordinates");
             add(tags[i].first, r.line(), x);
           }
         }
@@ -707,6 +707,7 @@ TetMesh Parse(MshReader &r) {
       if (!found) r.Fail("unexpected end of file: missing " + end);
     }
   }
+  if (r.line() == 0) r.Fail("empty file (expected a $MeshFormat section)");
   if (!have_format) r.Fail("missing $MeshFormat section");
   if (!have_nodes) r.Fail("missing $Nodes section");
   if (!have_elements) r.Fail("missing $Elements section");
