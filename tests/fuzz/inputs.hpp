@@ -54,7 +54,7 @@ inline PetscErrorCode ReadMesh(MPI_Comm comm, const char *file, fdem::kernels::T
 }
 
 // Each body of the mesh becomes a rigid body (density 1, at its place),
-// named "file:line (body 'name')" with the line of its first tetrahedron.
+// named "file:line: body 'name'" with the line of its first tetrahedron.
 inline PetscErrorCode AddRigidBodies(FDEMRigid rb, const char *file, const fdem::kernels::TetMesh &M) {
   PetscFunctionBeginUser;
   for (int b = 0; b < M.NumBodies(); ++b) {
@@ -72,7 +72,7 @@ inline PetscErrorCode AddRigidBodies(FDEMRigid rb, const char *file, const fdem:
         tets.push_back(local[n]);
       }
     }
-    const std::string name = std::string(file) + ":" + std::to_string(line) + " (body '" + M.body_names[b] + "')";
+    const std::string name = std::string(file) + ":" + std::to_string(line) + ": body '" + M.body_names[b] + "'";
     PetscReal         x[3] = {0, 0, 0};
     for (size_t i = 0; i < nodes.size(); ++i) x[i % 3] += nodes[i] / (PetscReal)(nodes.size() / 3);
     PetscCall(FDEMRigidAddBodyFromMesh(rb, name.c_str(), (PetscInt)(nodes.size() / 3), nodes.data(), (PetscInt)(tets.size() / 4), tets.data(), 1.0, x, nullptr, nullptr, nullptr, nullptr));
