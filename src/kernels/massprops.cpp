@@ -178,6 +178,17 @@ MassProperties ComputeMassProperties(const std::vector<Vec3> &nodes, const std::
       }
   }
 
+  // The same tetrahedron twice: named as such (a lone one's faces would pair
+  // up with its copy's and pass the boundary check below with twice the mass).
+  {
+    std::map<Tet, std::size_t> seen;
+    for (std::size_t e = 0; e < tets.size(); ++e) {
+      Tet key = tets[e];
+      std::sort(key.begin(), key.end());
+      const auto ins = seen.try_emplace(key, e);
+      if (!ins.second) Fail(body_name, TetString(nodes, tets[e], e) + " repeats tetrahedron " + std::to_string(ins.first->second));
+    }
+  }
   // Closed 2-manifold boundary.
   {
     std::map<Tri, std::pair<int, std::size_t>> faces; // sorted face -> (uses, first tet)

@@ -9,6 +9,7 @@
 #include <istream>
 #include <map>
 #include <numeric>
+#include <sstream>
 #include <unordered_map>
 
 #include <fdem/kernels/error.hpp>
@@ -267,19 +268,35 @@ const char *GmshTypeName(long type) {
   }
 }
 
+std::string CoordString(const Vec3 &x) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "(" << x.x << ", " << x.y << ", " << x.z << ")";
+  return o.str();
+}
+
+// Line-oriented reader that knows where it is (file:line for every error) and
+// how many bytes of the input are left (a count read from the file is checked
+// against that before anything is sized by it: a line takes at least 1 byte).
 class MshReader {
 public:
-  MshReader(std::istream &in, std::string file) : in_(in), file_(std::move(file)) {}
+  MshReader(std::istream &in, std::string file) : in_(in), file_(std::move(file)) {
+    const std::istream::pos_type here = in_.tellg();
+    if (here != std::istream::pos_type(-1) && in_.seekg(0, std::ios::end)) {
+      const std::istream::pos_type end = in_.tellg();
+      if (end != std::istream::pos_type(-1) && end >= here) size_ = static_cast<long long>(end - here);
+    }
+    in_.clear();
+    if (here != std::istream::pos_type(-1)) in_.seekg(here);
+  }
 
-  [[noreturn]] void Fail(const std::string &what) const {
-    throw InputError(file_ + ":" + std::to_string(line_) + ": " + what);
-  }
-  [[noreturn]] void FailAt(long line, const std::string &what) const {
-    throw InputError(file_ + ":" + std::to_string(line) + ": " + what);
-  }
+  std::string At(long line) const { return file_ + ":" + std::to_string(line); }
+  [[noreturn]] void Fail(const std::string &what) const { FailAt(line_, what); }
+  [[noreturn]] void FailAt(long line, const std::string &what) const { throw InputError(At(line) + ": " + what); }
   bool Next(std::string &s) {
     if (!std::getline(in_, s)) return false;
     ++line_;
+    read_ += static_cast<long long>(s.size()) + 1;
     if (!s.empty() && s.back() == '\r') s.pop_back();
     return true;
   }
@@ -297,8 +314,20 @@ public:
     const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
     return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
   }
+  // A count of items read from the current line, each taking `lines_per_item`
+  // lines of what follows: must be >= 0 and fit in the rest of the input.
+  long Count(long n, long lines_per_item, const std::string &what) const {
+    if (n < 0) Fail(what + " " + std::to_string(n) + " is negative");
+    if (size_ >= 0) {
+      const long long left = size_ - read_;
+      if (n > left / lines_per_item)
+        Fail(what + " " + std::to_string(n) + " is more than the rest of the file can hold (" + std::to_string(left) +
+             " bytes left, at least " + std::to_string(lines_per_item) + " line(s) each)");
+    }
+    return n;
+  }
   // Integers on a line; at least `min_count` of them, else an error.
-  void Ints(const std::string &s, std::vector<long> &out, std::size_t min_count, const char *what) {
+  void Ints(const std::string &s, std::vector<long> &out, std::size_t min_count, const char *what) const {
     out.clear();
     const char *p = s.c_str();
     char *end;
@@ -314,42 +343,188 @@ public:
     if (out.size() < min_count)
       Fail(std::string("malformed ") + what + ": expected at least " + std::to_string(min_count) + " integers, got '" + s + "'");
   }
-  void Reals(const std::string &s, double *out, int count, const char *what) {
-    const char *p = s.c_str();
+  // `count` finite reals from `from` on (a position in `line`; a number out of
+  // the double range, nan or inf is an error). Returns the rest of the line.
+  const char *Reals(const std::string &line, const char *from, double *out, int count, const char *what) const {
+    const char *p = from;
     char *end;
     for (int i = 0; i < count; ++i) {
       out[i] = std::strtod(p, &end);
-      if (end == p || (*end && *end != ' ' && *end != '\t')) Fail(std::string("malformed ") + what + ": '" + s + "'");
+      if (end == p || (*end && *end != ' ' && *end != '\t')) Fail(std::string("malformed ") + what + ": '" + line + "'");
+      if (!std::isfinite(out[i]))
+        Fail(std::string(what) + ": value '" + MshReader::Trim(std::string(p, static_cast<const char *>(end))) + "' is not a finite number");
       p = end;
     }
+    return p;
   }
   long line() const { return line_; }
-  const std::string &file() const { return file_; }
 
 private:
   std::istream &in_;
   std::string file_;
   long line_ = 0;
+  long long read_ = 0;   // bytes consumed
+  long long size_ = -1;  // bytes in the input from the start (-1: unknown, e.g. a pipe)
+};
+
+struct RawNode {
+  long tag, line;
+  Vec3 x;
 };
 
 struct RawTet {
   std::array<long, 4> nodes;
+  long tag;     // element tag
   long phys;    // physical tag (2.2) or 0
   long entity;  // entity tag (4.1) or -1
   long line;
 };
 
-} // namespace
+// The earliest repeated tetrahedron in file order (same four nodes in any
+// order) is an error naming both elements and their lines.
+void CheckRepeatedTets(const MshReader &r, const std::vector<RawTet> &raw) {
+  std::vector<std::pair<std::array<long, 4>, std::size_t>> key(raw.size());
+  for (std::size_t t = 0; t < raw.size(); ++t) {
+    key[t] = {raw[t].nodes, t};
+    std::sort(key[t].first.begin(), key[t].first.end());
+  }
+  std::sort(key.begin(), key.end());
+  std::size_t first = 0, second = raw.size();
+  for (std::size_t i = 1; i < key.size(); ++i)
+    if (key[i].first == key[i - 1].first && (second == raw.size() || key[i].second < second)) {
+      std::size_t j = i - 1;
+      while (j > 0 && key[j - 1].first == key[i].first) --j;  // first occurrence of this tetrahedron
+      first = key[j].second;
+      second = key[i].second;
+    }
+  if (second == raw.size()) return;
+  const RawTet &a = raw[first], &b = raw[second];
+  r.FailAt(b.line, "element " + std::to_string(b.tag) + " repeats element " + std::to_string(a.tag) + " (line " +
+                       std::to_string(a.line) + "): the same tetrahedron (nodes " + std::to_string(b.nodes[0]) + " " +
+                       std::to_string(b.nodes[1]) + " " + std::to_string(b.nodes[2]) + " " + std::to_string(b.nodes[3]) +
+                       ") given twice");
+}
 
-TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
-  MshReader r(in, filename);
+// Faces of the (positively oriented) tetrahedra: a face in more than two
+// tetrahedra, or in two that lie on the same side of it (they overlap), is an
+// error naming the elements, their lines and the face's nodes (first in file order).
+void CheckSharedFaces(const MshReader &r, const std::vector<RawTet> &raw, const TetMesh &mesh,
+                      const std::vector<const RawNode *> &src) {
+  static const int F[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward
+  struct Face {
+    std::array<int, 3> key;  // sorted mesh nodes
+    int tet, parity;         // parity of the outward orientation relative to key
+  };
+  std::vector<Face> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (int t = 0; t < static_cast<int>(mesh.tets.size()); ++t)
+    for (const auto &f : F) {
+      const auto &n = mesh.tets[t];
+      const std::array<int, 3> o{n[f[0]], n[f[1]], n[f[2]]};
+      std::array<int, 3> k = o;
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, t, ((o[0] > o[1]) + (o[0] > o[2]) + (o[1] > o[2])) % 2});
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) { return a.key < b.key || (a.key == b.key && a.tet < b.tet); });
+  long worst = -1;
+  std::string what;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    const bool too_many = j - i > 2, same_side = j - i == 2 && faces[i].parity == faces[i + 1].parity;
+    if (too_many || same_side) {
+      const RawTet &a = raw[faces[i].tet], &b = raw[faces[i + 1].tet];
+      const RawTet &last = raw[faces[too_many ? i + 2 : i + 1].tet];
+      if (worst < 0 || last.line < worst) {
+        worst = last.line;
+        std::string face = "face (nodes";
+        for (int m : faces[i].key) face += " " + std::to_string(src[m]->tag);
+        face += ")";
+        what = too_many ? "element " + std::to_string(last.tag) + " has a " + face + " that elements " + std::to_string(a.tag) +
+                              " (line " + std::to_string(a.line) + ") and " + std::to_string(b.tag) + " (line " +
+                              std::to_string(b.line) + ") already share: a face belongs to at most two tetrahedra (overlapping elements)"
+                        : "element " + std::to_string(b.tag) + " and element " + std::to_string(a.tag) + " (line " +
+                              std::to_string(a.line) + ") lie on the same side of their shared " + face + ": they overlap";
+      }
+    }
+    i = j;
+  }
+  if (worst >= 0) r.FailAt(worst, what);
+}
+
+// Distinct nodes at exactly the same coordinates. Within one body that is a
+// seam the mesh falls apart at (an error); between two bodies it is legitimate
+// (bodies meshed separately that touch) and gives one warning for the file.
+void CheckCoincidentNodes(const MshReader &r, const TetMesh &mesh, const std::vector<const RawNode *> &src,
+                          std::vector<std::string> &warnings) {
+  std::vector<std::pair<int, int>> node_body;  // (node, body), sorted, unique
+  node_body.reserve(4 * mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int a : mesh.tets[t]) node_body.emplace_back(a, mesh.body[t]);
+  std::sort(node_body.begin(), node_body.end());
+  node_body.erase(std::unique(node_body.begin(), node_body.end()), node_body.end());
+  std::vector<std::size_t> first_body(mesh.nodes.size() + 1, 0);  // node i's bodies: [first_body[i], first_body[i+1])
+  for (const auto &nb : node_body) ++first_body[nb.first + 1];
+  std::partial_sum(first_body.begin(), first_body.end(), first_body.begin());
+
+  const int n = static_cast<int>(mesh.nodes.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  auto less = [&](int a, int b) {
+    const Vec3 &p = mesh.nodes[a], &q = mesh.nodes[b];
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    return p.z < q.z;
+  };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return less(a, b) || (!less(b, a) && src[a]->line < src[b]->line); });
+  long extra = 0;
+  std::string warning;
+  std::map<int, int> holder;  // body -> the first node of the group in it
+  const RawNode *seam_a = nullptr, *seam_b = nullptr;  // two coincident nodes in one body
+  int seam_body = -1;
+  for (int i = 0; i < n;) {
+    int j = i + 1;
+    while (j < n && !less(order[i], order[j])) ++j;
+    if (j - i > 1) {
+      holder.clear();
+      for (int k = i; k < j; ++k)
+        for (std::size_t q = first_body[order[k]]; q < first_body[order[k] + 1]; ++q) {
+          const auto ins = holder.emplace(node_body[q].second, order[k]);
+          if (ins.second) continue;
+          if (!seam_a || src[order[k]]->line < seam_b->line) {
+            seam_a = src[ins.first->second];
+            seam_b = src[order[k]];
+            seam_body = node_body[q].second;
+          }
+        }
+      if (warning.empty()) {
+        const RawNode &a = *src[order[i]], &b = *src[order[i + 1]];
+        warning = r.At(b.line) + ": node " + std::to_string(b.tag) + " has the same coordinates " + CoordString(b.x) +
+                  " as node " + std::to_string(a.tag) + " (line " + std::to_string(a.line) + ") of another body ('" +
+                  mesh.body_names[node_body[first_body[order[i]]].second] + "' and '" +
+                  mesh.body_names[node_body[first_body[order[i + 1]]].second] + "' touch there)";
+      }
+      extra += j - i - 1;
+    }
+    i = j;
+  }
+  if (seam_a)  // the first one in file order
+    r.FailAt(seam_b->line, "node " + std::to_string(seam_b->tag) + " has the same coordinates " + CoordString(seam_b->x) +
+                               " as node " + std::to_string(seam_a->tag) + " (line " + std::to_string(seam_a->line) +
+                               ") and both are in body '" + mesh.body_names[seam_body] +
+                               "': its tetrahedra are not joined there (merge the nodes, e.g. Gmsh's Coherence Mesh)");
+  if (extra > 1) warning += "; " + std::to_string(extra - 1) + " more node(s) coincide with a node of another body";
+  if (!warning.empty()) warnings.push_back(warning);
+}
+
+TetMesh Parse(MshReader &r) {
   std::string s;
   double version = 0;
   bool have_format = false, have_nodes = false, have_elements = false;
-  std::map<long, std::string> names3;             // physical tag -> name (dim 3)
+  std::map<long, std::string> names3;                    // physical tag -> name (dim 3)
   std::unordered_map<long, std::vector<long>> vol_phys;  // 4.1 volume entity -> physical tags
   std::unordered_map<long, std::size_t> node_index;      // node tag -> index in raw_nodes
-  std::vector<std::pair<long, Vec3>> raw_nodes;
+  std::vector<RawNode> raw_nodes;
   std::vector<RawTet> raw;
   std::vector<long> ints;
 
@@ -359,18 +534,13 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
     if (sec[0] != '$') r.Fail("expected a section header ($Name), found '" + s + "'");
     if (sec == "$MeshFormat") {
       r.Line(sec, s);
-      double v = 0;
-      long ft = 0, ds = 0;
       char *e;
       const char *p = s.c_str();
-      v = std::strtod(p, &e);
+      const double v = std::strtod(p, &e);
       if (e == p) r.Fail("malformed $MeshFormat line '" + s + "'");
       p = e;
-      ft = std::strtol(p, &e, 10);
+      const long ft = std::strtol(p, &e, 10);
       if (e == p) r.Fail("malformed $MeshFormat line '" + s + "'");
-      p = e;
-      ds = std::strtol(p, &e, 10);
-      (void)ds;
       if (v != 2.2 && v != 4.1)
         r.Fail("unsupported .msh version " + MshReader::Trim(s.substr(0, s.find(' '))) + " (supported: 2.2, 4.1)");
       if (ft != 0) r.Fail("binary .msh files are not supported (save as ASCII)");
@@ -380,7 +550,7 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
     } else if (sec == "$PhysicalNames") {
       r.Line(sec, s);
       r.Ints(s, ints, 1, "$PhysicalNames count");
-      const long n = ints[0];
+      const long n = r.Count(ints[0], 1, "$PhysicalNames count");
       for (long i = 0; i < n; ++i) {
         r.Line(sec, s);
         const auto q0 = s.find('"'), q1 = s.rfind('"');
@@ -393,67 +563,74 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
       if (!have_format) r.Fail("$Entities before $MeshFormat");
       r.Line(sec, s);
       r.Ints(s, ints, 4, "$Entities counts");
-      const long np = ints[0], nc = ints[1], ns = ints[2], nv = ints[3];
-      for (long i = 0; i < np + nc + ns; ++i) r.Line(sec, s);
-      for (long i = 0; i < nv; ++i) {
+      const char *kind[4] = {"$Entities point count", "$Entities curve count", "$Entities surface count",
+                             "$Entities volume count"};
+      long count[4];
+      for (int k = 0; k < 4; ++k) count[k] = r.Count(ints[k], 1, kind[k]);
+      for (int k = 0; k < 3; ++k)
+        for (long i = 0; i < count[k]; ++i) r.Line(sec, s);
+      for (long i = 0; i < count[3]; ++i) {
         r.Line(sec, s);
         // tag minX minY minZ maxX maxY maxZ numPhysicalTags tags... : parse tag, skip 6 reals.
         const char *p = s.c_str();
         char *e;
+        errno = 0;
         const long tag = std::strtol(p, &e, 10);
-        if (e == p) r.Fail("malformed volume entity line '" + s + "'");
-        p = e;
-        for (int k = 0; k < 6; ++k) {
-          std::strtod(p, &e);
-          if (e == p) r.Fail("malformed volume entity line '" + s + "'");
-          p = e;
-        }
+        if (e == p || errno) r.Fail("malformed volume entity line '" + s + "'");
+        double box[6];
+        p = r.Reals(s, e, box, 6, "volume entity line (expected: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags...)");
         r.Ints(p, ints, 1, "volume entity line");
         const long nphys = ints[0];
-        if (nphys < 0 || static_cast<long>(ints.size()) < 1 + nphys) r.Fail("malformed volume entity line '" + s + "'");
+        if (nphys < 0 || nphys > static_cast<long>(ints.size()) - 1)
+          r.Fail("volume entity line: numPhysicalTags " + std::to_string(nphys) + " does not match the " +
+                 std::to_string(ints.size() - 1) + " integers after it: '" + s + "'");
         vol_phys[tag].assign(ints.begin() + 1, ints.begin() + 1 + nphys);
       }
       r.End(sec);
     } else if (sec == "$Nodes") {
       if (!have_format) r.Fail("$Nodes before $MeshFormat");
       have_nodes = true;
-      auto add = [&](long tag, const Vec3 &x) {
-        if (!node_index.emplace(tag, raw_nodes.size()).second) r.Fail("duplicate node tag " + std::to_string(tag));
-        raw_nodes.push_back({tag, x});
+      auto add = [&](long tag, long line, const double x[3]) {
+        if (!node_index.emplace(tag, raw_nodes.size()).second)
+          r.FailAt(line, "duplicate node tag " + std::to_string(tag) + " (first on line " +
+                             std::to_string(raw_nodes[node_index[tag]].line) + ")");
+        raw_nodes.push_back({tag, line, {x[0], x[1], x[2]}});
       };
       r.Line(sec, s);
       if (version == 2.2) {
         r.Ints(s, ints, 1, "$Nodes count");
-        const long n = ints[0];
+        const long n = r.Count(ints[0], 1, "$Nodes count");
         for (long i = 0; i < n; ++i) {
           r.Line(sec, s);
           const char *p = s.c_str();
           char *e;
+          errno = 0;
           const long tag = std::strtol(p, &e, 10);
-          if (e == p) r.Fail("malformed node line '" + s + "' (expected: tag x y z)");
+          if (e == p || errno) r.Fail("malformed node line '" + s + "' (expected: tag x y z)");
           double x[3];
-          r.Reals(e, x, 3, "node line (expected: tag x y z)");
-          add(tag, {x[0], x[1], x[2]});
+          r.Reals(s, e, x, 3, "node line (expected: tag x y z)");
+          add(tag, r.line(), x);
         }
       } else {
         r.Ints(s, ints, 4, "$Nodes header (numEntityBlocks numNodes minTag maxTag)");
-        const long nblocks = ints[0];
+        const long nblocks = r.Count(ints[0], 1, "$Nodes numEntityBlocks");
+        std::vector<std::pair<long, long>> tags;  // (tag, line)
         for (long b = 0; b < nblocks; ++b) {
           r.Line(sec, s);
           r.Ints(s, ints, 4, "node block header (entityDim entityTag parametric numNodes)");
-          const long parametric = ints[2], nb = ints[3];
-          std::vector<long> tags(nb);
+          const long nb = r.Count(ints[3], 2, "node block numNodes");
+          tags.clear();  // grows with the lines actually read (the count may be unchecked: input of unknown size)
           for (long i = 0; i < nb; ++i) {
             r.Line(sec, s);
             r.Ints(s, ints, 1, "node tag");
-            tags[i] = ints[0];
+            if (ints.size() != 1) r.Fail("malformed node tag line '" + s + "' (expected one tag)");
+            tags.emplace_back(ints[0], r.line());
           }
           for (long i = 0; i < nb; ++i) {
             r.Line(sec, s);
             double x[3];
-            r.Reals(s, x, 3, "node coordinates");
-            (void)parametric;
-            add(tags[i], {x[0], x[1], x[2]});
+            r.Reals(s, s.c_str(), x, 3, "node coordinates");
+            add(tags[i].first, r.line(), x);
           }
         }
       }
@@ -464,7 +641,7 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
       r.Line(sec, s);
       if (version == 2.2) {
         r.Ints(s, ints, 1, "$Elements count");
-        const long n = ints[0];
+        const long n = r.Count(ints[0], 1, "$Elements count");
         for (long i = 0; i < n; ++i) {
           r.Line(sec, s);
           r.Ints(s, ints, 3, "element line (expected: tag type ntags tags... nodes...)");
@@ -475,10 +652,12 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
           if (type != 4)
             r.Fail("unsupported volume element type " + std::to_string(type) + " (" + GmshTypeName(type) +
                    "); only 4-node tetrahedra (type 4) are supported");
-          if (ntags < 0 || static_cast<long>(ints.size()) != 3 + ntags + 4)
-            r.Fail("tetrahedron line must have 3 + ntags + 4 integers: '" + s + "'");
+          // 3 + ntags + 4 integers, compared without overflow.
+          if (ntags < 0 || static_cast<long>(ints.size()) - 7 != ntags)
+            r.Fail("tetrahedron line must have 3 + ntags + 4 integers (ntags = " + std::to_string(ntags) + "): '" + s + "'");
           RawTet t;
           for (int a = 0; a < 4; ++a) t.nodes[a] = ints[3 + ntags + a];
+          t.tag = ints[0];
           t.phys = ntags > 0 ? ints[3] : 0;
           t.entity = -1;
           t.line = r.line();
@@ -486,12 +665,16 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
         }
       } else {
         r.Ints(s, ints, 4, "$Elements header (numEntityBlocks numElements minTag maxTag)");
-        const long nblocks = ints[0];
+        const long nblocks = r.Count(ints[0], 1, "$Elements numEntityBlocks");
         for (long b = 0; b < nblocks; ++b) {
           r.Line(sec, s);
           r.Ints(s, ints, 4, "element block header (entityDim entityTag elementType numElements)");
-          const long dim = ints[0], entity = ints[1], type = ints[2], nb = ints[3];
+          const long dim = ints[0], entity = ints[1], type = ints[2];
+          const long nb = r.Count(ints[3], 1, "element block numElements");
           if (GmshTypeDim(type) < 0) r.Fail("unknown element type " + std::to_string(type));
+          if (GmshTypeDim(type) != dim)
+            r.Fail("element block of dimension " + std::to_string(dim) + " holds element type " + std::to_string(type) +
+                   " of dimension " + std::to_string(GmshTypeDim(type)));
           const bool keep = dim == 3;
           if (keep && type != 4)
             r.Fail("unsupported volume element type " + std::to_string(type) + " (" + GmshTypeName(type) +
@@ -503,6 +686,7 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
             if (ints.size() != 5) r.Fail("tetrahedron line must have exactly 5 integers: '" + s + "'");
             RawTet t;
             for (int a = 0; a < 4; ++a) t.nodes[a] = ints[1 + a];
+            t.tag = ints[0];
             t.phys = 0;
             t.entity = entity;
             t.line = r.line();
@@ -523,6 +707,7 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
       if (!found) r.Fail("unexpected end of file: missing " + end);
     }
   }
+  if (r.line() == 0) r.Fail("empty file (expected a $MeshFormat section)");
   if (!have_format) r.Fail("missing $MeshFormat section");
   if (!have_nodes) r.Fail("missing $Nodes section");
   if (!have_elements) r.Fail("missing $Elements section");
@@ -548,12 +733,14 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < raw_nodes.size(); ++i)
     if (used[i]) order.push_back(i);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return raw_nodes[a].first < raw_nodes[b].first; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return raw_nodes[a].tag < raw_nodes[b].tag; });
   std::vector<int> new_id(raw_nodes.size(), -1);
+  std::vector<const RawNode *> src;  // file node of each mesh node
   TetMesh mesh;
   for (std::size_t i : order) {
     new_id[i] = static_cast<int>(mesh.nodes.size());
-    mesh.nodes.push_back(raw_nodes[i].second);
+    mesh.nodes.push_back(raw_nodes[i].x);
+    src.push_back(&raw_nodes[i]);
   }
   for (const auto &t : raw) {
     std::array<int, 4> n;
@@ -562,10 +749,16 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
       for (int b = a + 1; b < 4; ++b)
         if (n[a] == n[b]) r.FailAt(t.line, "tetrahedron has a repeated node " + std::to_string(t.nodes[a]));
     const double v6 = 6.0 * TetSignedVolume(mesh.nodes[n[0]], mesh.nodes[n[1]], mesh.nodes[n[2]], mesh.nodes[n[3]]);
-    if (Degenerate(v6, LongestEdge(mesh.nodes, n))) r.FailAt(t.line, "degenerate tetrahedron (zero volume)");
+    const double h = LongestEdge(mesh.nodes, n);
+    if (!std::isfinite(v6) || !std::isfinite(h))
+      r.FailAt(t.line, "tetrahedron volume is not a finite number (coordinates too large)");
+    if (Degenerate(v6, h)) r.FailAt(t.line, "degenerate tetrahedron (zero volume)");
     if (v6 < 0) std::swap(n[1], n[2]);
     mesh.tets.push_back(n);
+    mesh.tet_line.push_back(t.line);
   }
+  CheckRepeatedTets(r, raw);
+  CheckSharedFaces(r, raw, mesh, src);
 
   if (any_phys) {
     std::map<long, int> body_of;
@@ -587,11 +780,25 @@ TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
     mesh.body = ConnectedComponents(mesh, &nc);
     for (int c = 0; c < nc; ++c) mesh.body_names.push_back("component_" + std::to_string(c));
   }
+  CheckCoincidentNodes(r, mesh, src, mesh.warnings);
   return mesh;
 }
 
+} // namespace
+
+TetMesh ParseGmsh(std::istream &in, const std::string &filename) {
+  MshReader r(in, filename);
+  try {
+    return Parse(r);
+  } catch (const InputError &) {
+    throw;
+  } catch (const std::exception &e) {  // e.g. std::bad_alloc: still say where
+    r.Fail(std::string("cannot read the mesh: ") + e.what());
+  }
+}
+
 TetMesh ReadGmsh(const std::string &path) {
-  std::ifstream f(path);
+  std::ifstream f(path, std::ios::binary);
   if (!f) throw InputError(path + ": cannot open file");
   return ParseGmsh(f, path);
 }

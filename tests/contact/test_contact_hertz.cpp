@@ -49,12 +49,18 @@ struct MeshFacts {
   PetscInt ball = -1, tets_ball = 0, tets_plate = 0;
   double   h_min = 1e300, h_contact = 0;
 };
-MeshFacts ReadFacts(const std::string &path, double gap) {
-  const fdem::kernels::TetMesh M = fdem::kernels::ReadGmsh(path);
-  MeshFacts                    f;
+// A bad file is a PETSc error naming it (every rank reads it: collective).
+PetscErrorCode ReadFacts(const std::string &path, double gap, MeshFacts &f) {
+  fdem::kernels::TetMesh M;
+  PetscFunctionBeginUser;
+  try {
+    M = fdem::kernels::ReadGmsh(path);
+  } catch (const std::exception &e) {
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "-hertz_mesh: %s", e.what());
+  }
   for (int b = 0; b < M.NumBodies(); ++b)
     if (M.body_names[b] == "ball") f.ball = b;
-  if (f.ball < 0) return f;
+  if (f.ball < 0) PetscFunctionReturn(0);
   for (size_t e = 0; e < M.tets.size(); ++e) {
     if (M.body[e] != f.ball) {
       f.tets_plate++;
@@ -83,7 +89,7 @@ MeshFacts ReadFacts(const std::string &path, double gap) {
     n += 3;
   }
   f.h_contact = n ? sum / n : 0;
-  return f;
+  PetscFunctionReturn(0);
 }
 
 struct Watch {
@@ -139,7 +145,8 @@ PetscErrorCode Hertz(const std::string &path, double penalty, double cfl, double
   TS                    ts;
   Vec                   U;
   PetscFunctionBeginUser;
-  const MeshFacts f = ReadFacts(path, gap);
+  MeshFacts f;
+  PetscCall(ReadFacts(path, gap, f));
   PetscCheck(f.ball >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "%s has no physical volume \"ball\"", path.c_str());
   const double cp = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho)); // P-wave speed
   r.tets_ball     = f.tets_ball;

@@ -277,7 +277,10 @@ TEST(MassProps, BadInputsNameTheBodyAndElement) {
   // A duplicated element: its faces are then used three times.
   bad = tets;
   bad.push_back(tets[10]);
-  ExpectInputError(nodes, bad, 1.0, "rockF", {"rockF", "closed 2-manifold", "more than two"});
+  ExpectInputError(nodes, bad, 1.0, "rockF", {"rockF", "tetrahedron 48", "repeats tetrahedron 10"});
+  // A lone tetrahedron given twice (was accepted with twice the mass).
+  const std::vector<Vec3> one = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  ExpectInputError(one, {{0, 1, 2, 3}, {0, 2, 3, 1}}, 1.0, "rockG", {"rockG", "tetrahedron 1 (nodes 0, 2, 3, 1) repeats tetrahedron 0"});
   // A hanging node: one cube split into 6 tets next to a cube whose shared
   // face is split differently (by a node in its centre) -> boundary edges used once.
   {

@@ -386,6 +386,118 @@ TEST(Gmsh, RejectsMalformedInputWithFileAndLine) {
   ExpectParseError("$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", 2, "unsupported .msh version 3.0");
   ExpectParseError("$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", 2, "binary");
   ExpectParseError(fmt22 + "hello\n", 4, "expected a section header");
-  ExpectParseError(fmt22 + nodes22 + "$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n$Elements\n1\n1 4 2 5 1 1 2 3 4\n$EndElements\n",
-                   13, "no physical group");
+  const std::string nodes22_5 = "$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n$EndNodes\n";  // lines 4-11
+  ExpectParseError(fmt22 + nodes22_5 + "$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n$Elements\n1\n1 4 2 5 1 2 3 4 5\n$EndElements\n",
+                   14, "no physical group");
+}
+
+// Counts are checked against the bytes left before anything is sized by them,
+// with overflow-safe arithmetic; each error names file:line.
+TEST(Gmsh, RejectsCountsTheFileCannotHold) {
+  const std::string fmt41 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  // np + nc + ns overflowed to a negative sum and the section was accepted.
+  ExpectParseError(fmt41 + "$Entities\n9223372036854775807 1 0 0\n$EndEntities\n", 5,
+                   "$Entities point count 9223372036854775807 is more than the rest of the file can hold");
+  ExpectParseError(fmt41 + "$Entities\n0 0 -1 0\n$EndEntities\n", 5, "$Entities surface count -1 is negative");
+  // A node block's count was used to size a vector: 1e12 -> std::bad_alloc, 2^31-1 -> 16 GiB, -1 -> length_error.
+  for (const char *n : {"1000000000000", "2147483647", "9223372036854775807"})
+    ExpectParseError(fmt41 + "$Nodes\n1 1 1 1\n3 1 0 " + n + "\n1\n0 0 0\n$EndNodes\n", 6,
+                     std::string("node block numNodes ") + n + " is more than the rest of the file can hold");
+  ExpectParseError(fmt41 + "$Nodes\n1 1 1 1\n3 1 0 -1\n$EndNodes\n", 6, "node block numNodes -1 is negative");
+  ExpectParseError(fmt41 + "$Nodes\n-2 1 1 1\n$EndNodes\n", 5, "$Nodes numEntityBlocks -2 is negative");
+  ExpectParseError(fmt22 + "$Nodes\n1000000000000\n1 0 0 0\n$EndNodes\n", 5, "$Nodes count 1000000000000 is more than");
+  ExpectParseError(fmt22 + "$PhysicalNames\n-3\n$EndPhysicalNames\n", 5, "$PhysicalNames count -3 is negative");
+  // 3 + ntags + 4 overflowed.
+  const std::string nodes22 = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n";
+  ExpectParseError(fmt22 + nodes22 + "$Elements\n1\n1 4 9223372036854775805 1 2 3 4\n$EndElements\n", 13,
+                   "3 + ntags + 4 integers (ntags = 9223372036854775805)");
+  // numPhysicalTags of a volume entity: 1 + nphys overflowed.
+  ExpectParseError(fmt41 + "$Entities\n0 0 0 1\n1 0 0 0 1 1 1 9223372036854775807 5\n$EndEntities\n", 6,
+                   "numPhysicalTags 9223372036854775807 does not match");
+  // An integer out of range is malformed, not wrapped.
+  ExpectParseError(fmt22 + "$Nodes\n99999999999999999999\n$EndNodes\n", 5, "malformed $Nodes count");
+}
+
+namespace {
+// A stream that cannot seek (a pipe): its size is unknown.
+struct PipeBuf : std::stringbuf {
+  using std::stringbuf::stringbuf;
+  pos_type seekoff(off_type, std::ios_base::seekdir, std::ios_base::openmode) override { return pos_type(-1); }
+  pos_type seekpos(pos_type, std::ios_base::openmode) override { return pos_type(-1); }
+};
+} // namespace
+
+TEST(Gmsh, UnknownSizeStillAllocatesOnlyWhatItReads) {
+  PipeBuf buf("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n3 1 0 1000000000000\n1\n2\n$EndNodes\n");
+  std::istream in(&buf);
+  try {
+    ParseGmsh(in, "pipe");
+    ADD_FAILURE() << "accepted a truncated node block";
+  } catch (const InputError &e) {
+    EXPECT_EQ(std::string(e.what()), "pipe:9: unexpected '$EndNodes' inside $Nodes (section too short?)");
+  }
+}
+
+TEST(Gmsh, RejectsNonFiniteCoordinates) {
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  for (const char *bad : {"nan", "inf", "-inf", "1e999", "NAN"})
+    ExpectParseError(fmt22 + "$Nodes\n2\n1 0 0 0\n2 1 " + bad + " 0\n$EndNodes\n", 7,
+                     std::string("node line (expected: tag x y z): value '") + bad + "' is not a finite number");
+  ExpectParseError("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n3 1 0 1\n1\n0 0 nan\n$EndNodes\n", 8,
+                   "node coordinates: value 'nan' is not a finite number");
+  // Finite but too large: the volume overflows (nan); the tetrahedron's line is named.
+  ExpectParseError(fmt22 + "$Nodes\n4\n1 0 0 0\n2 1e300 0 0\n3 0 1e300 0\n4 0 0 1e300\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n",
+                   13, "tetrahedron volume is not a finite number");
+}
+
+TEST(Gmsh, RejectsATetrahedronGivenTwice) {
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  const std::string nodes = "$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n$EndNodes\n";  // lines 4-11
+  // Was accepted: mass doubled, no boundary faces between the two copies.
+  ExpectParseError(fmt22 + nodes + "$Elements\n3\n7 4 2 1 1 1 2 3 4\n8 4 2 1 1 2 3 4 5\n9 4 2 1 1 4 3 2 1\n$EndElements\n", 16,
+                   "element 9 repeats element 7 (line 14): the same tetrahedron (nodes 4 3 2 1) given twice");
+  // In two physical volumes (4.1: two blocks): still one tetrahedron twice.
+  ExpectParseError("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"
+                   "$Elements\n2 2 1 2\n3 1 4 1\n1 1 2 3 4\n3 2 4 1\n2 2 1 3 4\n$EndElements\n",
+                   21, "element 2 repeats element 1 (line 19)");
+}
+
+TEST(Gmsh, CoincidentNodesAreAnErrorInOneBodyAndAWarningBetweenTwo) {
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  // Two tetrahedra touching at a face, with the face's nodes given twice (tags 5-7 = 2-4).
+  const std::string nodes = "$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 0\n6 0 1 0\n7 0 0 1\n8 1 1 1\n$EndNodes\n";  // 4-14
+  const std::string one_body = "$Elements\n2\n1 4 2 1 1 1 2 3 4\n2 4 2 1 1 5 6 7 8\n$EndElements\n";
+  ExpectParseError(fmt22 + nodes + one_body, 10,
+                   "node 5 has the same coordinates (1, 0, 0) as node 2 (line 7) and both are in body 'physical_1'");
+  const std::string two_bodies = "$Elements\n2\n1 4 2 1 1 1 2 3 4\n2 4 2 2 1 5 6 7 8\n$EndElements\n";
+  const TetMesh m = Parse(fmt22 + nodes + two_bodies, "touch.msh");
+  EXPECT_EQ(m.NumBodies(), 2);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_EQ(m.warnings[0], "touch.msh:12: node 7 has the same coordinates (0, 0, 1) as node 4 (line 9) of another body "
+                           "('physical_1' and 'physical_2' touch there); 2 more node(s) coincide with a node of another body");
+  // Without physical groups the two components are the bodies: same warning.
+  const std::string no_phys = "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 5 6 7 8\n$EndElements\n";
+  const TetMesh c = Parse(fmt22 + nodes + no_phys, "touch.msh");
+  EXPECT_EQ(c.NumBodies(), 2);
+  ASSERT_EQ(c.warnings.size(), 1u);
+  EXPECT_NE(c.warnings[0].find("('component_0' and 'component_1' touch there)"), std::string::npos) << c.warnings[0];
+  // A valid mesh has no warnings.
+  EXPECT_TRUE(Parse(WriteMsh41(TwoBodies(), true)).warnings.empty());
+}
+
+TEST(Gmsh, RejectsOverlappingTetrahedra) {
+  const std::string fmt22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  // Nodes 5 and 6 on the same side of face 1-2-3 (z > 0); node 7 below it.
+  const std::string nodes =
+      "$Nodes\n7\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0.2 0.2 0.5\n6 0.1 0.1 2\n7 0.2 0.2 -1\n$EndNodes\n";  // 4-13
+  // Two tetrahedra on the same side of their shared face: accepted before (volume counted twice).
+  ExpectParseError(fmt22 + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 1 3 2 5\n$EndElements\n", 17,
+                   "element 2 and element 1 (line 16) lie on the same side of their shared face (nodes 1 2 3): they overlap");
+  // Three tetrahedra on one face.
+  ExpectParseError(fmt22 + nodes + "$Elements\n3\n1 4 0 1 2 3 4\n2 4 0 1 2 3 7\n3 4 0 1 2 3 6\n$EndElements\n", 18,
+                   "element 3 has a face (nodes 1 2 3) that elements 1 (line 16) and 2 (line 17) already share");
+  // One on each side is a valid mesh; tet_line gives each tetrahedron's line.
+  const TetMesh m = Parse(fmt22 + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 1 2 3 7\n$EndElements\n");
+  EXPECT_EQ(m.tet_line, (std::vector<long>{16, 17}));
 }

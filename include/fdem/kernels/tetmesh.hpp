@@ -21,6 +21,8 @@ struct TetMesh {
   std::vector<std::array<int, 4>> tets;
   std::vector<int> body;                // body id per tetrahedron, 0..n_bodies-1
   std::vector<std::string> body_names;  // per body id (physical name, or "component_<i>")
+  std::vector<long> tet_line;           // reader: the file line of each tetrahedron (else empty)
+  std::vector<std::string> warnings;    // reader: legitimate but unusual input, "file:line: what"
   int NumBodies() const { return static_cast<int>(body_names.size()); }
 };
 
@@ -57,7 +59,13 @@ TetMesh MakeCylinderMesh(double radius, double height, int n_radial, int n_axial
 // $PhysicalNames, else "physical_<tag>"); without physical groups each
 // node-connected component is a body. Only nodes used by tetrahedra are kept
 // (in the order of their tags). Tetrahedra are re-oriented to positive volume.
-// Errors: InputError "file:line: what".
+// Hostile input is rejected, never trusted: every count is checked against
+// the bytes left in the input before anything is sized by it; coordinates
+// must be finite; a tetrahedron given twice is an error naming both elements;
+// so is a face in three tetrahedra or in two on the same side of it (overlap);
+// two nodes at exactly the same coordinates in one body are an error (an
+// unjoined seam), in two different bodies a warning in mesh.warnings (bodies
+// meshed separately that touch). Errors: InputError "file:line: what".
 TetMesh ReadGmsh(const std::string &path);
 TetMesh ParseGmsh(std::istream &in, const std::string &filename);
 

@@ -1,0 +1,247 @@
+#!/usr/bin/env python3
+"""Mutation fuzzing of fdem's input readers (run through scripts/fuzz.sh).
+
+Each input is a random seed file (valid and broken inputs), applies a few
+random mutations (numbers swapped for extreme values, lines deleted, doubled,
+swapped or spliced from another file, bytes flipped, truncation, ...). The
+driver (tests/fuzz/fdem_fuzz, -malloc_dump) reads a batch of inputs per
+process under mpiexec, 1 or 2 ranks in turn, with a time limit; a batch that
+does not end cleanly is re-run one input per process. Every input is classified:
+
+  accepted          every path accepted the file
+  rejected_located  rejected, each message names the file as file:line:
+  rejected_unlocated rejected by a message without file:line
+  crash             ended by a signal or a non-zero exit (abort, uncaught exception)
+  sanitizer         an AddressSanitizer / UndefinedBehaviorSanitizer report
+  leak              PETSc -malloc_dump found memory not freed after the run
+  hang              still running at the time limit
+
+Inputs of the last four classes and of rejected_unlocated are kept under
+OUT/<class>/ with the driver's output, to replay with
+  mpiexec -n <ranks> fdem_fuzz -input OUT/<class>/<file>
+The driver picks the input kind from the file extension, so seeds of a new
+kind (e.g. .yaml scenes) join by being in a seed folder.
+Standard library only.
+"""
+import argparse
+import collections
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+INTERESTING = [
+    "0", "-0", "1", "-1", "2", "3", "4", "5", "7", "8", "11", "15", "-2", "255", "256", "65535",
+    "2147483647", "2147483648", "-2147483648", "4294967295", "4294967296", "1000000000000",
+    "9223372036854775807", "-9223372036854775808", "9223372036854775806", "18446744073709551616",
+    "99999999999999999999999", "1e308", "1e309", "-1e308", "1e-320", "4.9e-324", "1e300", "-1e300",
+    "nan", "-nan", "inf", "-inf", "NaN", "0x10", "1e", "0.5", "2.2", "4.1", "3.0", "", "abc", "\"", "$",
+]
+SECTION_LINES = ["$MeshFormat", "$EndMeshFormat", "$Nodes", "$EndNodes", "$Elements", "$EndElements",
+                 "$Entities", "$EndEntities", "$PhysicalNames", "$EndPhysicalNames", "$Comments", "$End"]
+NUMBER = re.compile(rb"[-+]?(?:\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|nan|inf)", re.I)
+
+
+def mutate(data, pool, rng):
+    lines = data.split(b"\n")
+    kind = rng.randrange(16)
+    if kind <= 3:  # a number becomes an extreme or nearby value
+        nums = list(NUMBER.finditer(data))
+        if nums:
+            m = rng.choice(nums)
+            tok = m.group(0)
+            if kind == 0 or kind == 1:
+                new = rng.choice(INTERESTING).encode()
+            else:
+                try:
+                    v = int(tok)
+                    new = str(rng.choice([v + 1, v - 1, -v, 2 * v, v // 2, v + 1000])).encode()
+                except ValueError:
+                    new = rng.choice([b"-" + tok, tok + b"0", tok[:-1] or b"0"])
+            return data[:m.start()] + new + data[m.end():]
+    if kind == 4 and len(lines) > 1:  # delete a line
+        del lines[rng.randrange(len(lines))]
+    elif kind == 5:  # duplicate a line
+        i = rng.randrange(len(lines))
+        lines.insert(i, lines[i])
+    elif kind == 6 and len(lines) > 1:  # swap two lines
+        i, j = rng.randrange(len(lines)), rng.randrange(len(lines))
+        lines[i], lines[j] = lines[j], lines[i]
+    elif kind == 7:  # a line from another file
+        other = rng.choice(pool).split(b"\n")
+        lines.insert(rng.randrange(len(lines) + 1), rng.choice(other))
+    elif kind == 8:  # splice: head of this file, tail of another
+        other = rng.choice(pool)
+        return data[:rng.randrange(len(data) + 1)] + other[rng.randrange(len(other) + 1):]
+    elif kind == 9:  # truncate
+        return data[:rng.randrange(len(data) + 1)]
+    elif kind == 10 and data:  # flip, insert or delete a byte
+        i = rng.randrange(len(data))
+        op = rng.randrange(3)
+        b = bytes([rng.choice([0, 9, 10, 13, 32, 34, 36, 45, 46, 48, 57, 101, 255, rng.randrange(256)])])
+        if op == 0:
+            return data[:i] + b + data[i + 1:]
+        if op == 1:
+            return data[:i] + b + data[i:]
+        return data[:i] + data[i + 1:]
+    elif kind == 11:  # a section header or end line
+        lines.insert(rng.randrange(len(lines) + 1), rng.choice(SECTION_LINES).encode())
+    elif kind == 12:  # repeat a block of lines
+        i = rng.randrange(len(lines))
+        j = min(len(lines), i + rng.randrange(1, 12))
+        lines[j:j] = lines[i:j] * rng.randrange(1, 4)
+    elif kind == 13:  # drop or add a token on a line
+        i = rng.randrange(len(lines))
+        toks = lines[i].split(b" ")
+        if toks and rng.random() < 0.5:
+            del toks[rng.randrange(len(toks))]
+        else:
+            toks.insert(rng.randrange(len(toks) + 1), rng.choice(INTERESTING).encode())
+        lines[i] = b" ".join(toks)
+    elif kind == 14:  # whitespace and line ends
+        i = rng.randrange(len(lines))
+        lines[i] = rng.choice([lines[i].replace(b" ", b"\t"), lines[i] + b"\r", b"  " + lines[i] + b"  ", lines[i].replace(b" ", b"  ")])
+    else:  # swap two numbers of one line
+        i = rng.randrange(len(lines))
+        toks = lines[i].split(b" ")
+        if len(toks) > 1:
+            a, b = rng.randrange(len(toks)), rng.randrange(len(toks))
+            toks[a], toks[b] = toks[b], toks[a]
+            lines[i] = b" ".join(toks)
+    return b"\n".join(lines)
+
+
+def report(out, timed_out, rc):
+    """The run-level class, or None if the process ended normally and clean."""
+    if timed_out:
+        return "hang"
+    if "ERROR: AddressSanitizer" in out or "runtime error:" in out or "ERROR: LeakSanitizer" in out:
+        return "sanitizer"
+    if re.search(r"^\[ *\d+\] \d+ bytes ", out, re.M):
+        return "leak"
+    if rc != 0:
+        return "crash"
+    return None
+
+
+def classify_file(path, out):
+    """Class of one file from a clean run's output lines '<file>: accepted|rejected <path>[: msg]'."""
+    results = re.findall(r"^" + re.escape(path) + r": (accepted|rejected) (\w+)(?:: (.*))?$", out, re.M)
+    if not results:
+        return "crash"
+    where = re.compile(re.escape(path) + r":\d+:")
+    if any(r[0] == "rejected" and not where.search(r[2]) for r in results):
+        return "rejected_unlocated"
+    if any(r[0] == "rejected" for r in results):
+        return "rejected_located"
+    return "accepted"
+
+
+def run(cmd, env, timeout):
+    try:
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, timeout=timeout)
+        return p.returncode, p.stdout.decode(errors="replace"), False
+    except subprocess.TimeoutExpired as e:
+        return -1, (e.stdout or b"").decode(errors="replace"), True
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--driver", required=True, help="the fdem_fuzz executable")
+    ap.add_argument("--minutes", type=float, required=True)
+    ap.add_argument("--seeds", nargs="+", required=True, help="folders of seed files")
+    ap.add_argument("--ext", nargs="+", default=[".msh"], help="seed file extensions (input kinds)")
+    ap.add_argument("--out", required=True, help="folder for the kept inputs and the summary")
+    ap.add_argument("--ranks", default="1,2", help="rank counts, used in turn")
+    ap.add_argument("--timeout", type=float, default=30.0, help="seconds per file before a run counts as a hang")
+    ap.add_argument("--batch", type=int, default=25, help="files per driver process (a dirty batch is re-run file by file)")
+    ap.add_argument("--seed", type=int, default=None, help="random seed (default: from the clock)")
+    ap.add_argument("--mpiexec", default="mpiexec", help="MPI launcher")
+    args = ap.parse_args()
+
+    seed = args.seed if args.seed is not None else int(time.time())
+    rng = random.Random(seed)
+    seeds = []
+    for d in args.seeds:
+        for f in sorted(os.listdir(d)):
+            if os.path.splitext(f)[1] in args.ext:
+                with open(os.path.join(d, f), "rb") as fh:
+                    seeds.append((os.path.splitext(f)[1], fh.read()))
+    if not seeds:
+        sys.exit("fuzz.py: no seed files with extension %s in %s" % (" ".join(args.ext), " ".join(args.seeds)))
+    pool = [s[1] for s in seeds]
+    ranks = [int(r) for r in args.ranks.split(",")]
+    work = os.path.join(args.out, "work")
+    shutil.rmtree(args.out, ignore_errors=True)
+    os.makedirs(work)
+    env = dict(os.environ)
+    env.setdefault("ASAN_OPTIONS", "halt_on_error=1:detect_leaks=0:abort_on_error=0")
+    env.setdefault("UBSAN_OPTIONS", "halt_on_error=1:print_stacktrace=1")
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+
+    counts = collections.Counter()
+    by_ranks = collections.Counter()
+    end = time.time() + 60 * args.minutes
+    n = batches = 0
+    print("fuzz: %d seeds, ranks %s, batches of %d, timeout %gs per file, random seed %d, %g minutes"
+          % (len(seeds), args.ranks, args.batch, args.timeout, seed, args.minutes), flush=True)
+    while time.time() < end:
+        np_ = ranks[batches % len(ranks)]
+        batches += 1
+        files = []
+        for _ in range(args.batch):
+            ext, data = rng.choice(seeds)
+            for _ in range(rng.choice([1, 1, 2, 3, 4])):
+                data = mutate(data, pool, rng)
+            path = os.path.join(work, "input_%07d%s" % (n + len(files), ext))
+            with open(path, "wb") as fh:
+                fh.write(data)
+            files.append((path, ext, data))
+        listing = os.path.join(work, "batch.txt")
+        with open(listing, "w") as fh:
+            fh.write("".join(f[0] + "\n" for f in files))
+        launch = [args.mpiexec, "-n", str(np_), args.driver, "-malloc_dump"]
+        rc, out, timed_out = run(launch + ["-input_list", listing], env, args.timeout * len(files))
+        # A dirty batch (crash, hang, report, leak): each file again on its own to find which.
+        alone = report(out, timed_out, rc) is not None
+        for path, ext, data in files:
+            cmd = launch + ["-input", path]
+            if alone:
+                rc, out, timed_out = run(cmd, env, args.timeout)
+                c = report(out, timed_out, rc) or classify_file(path, out)
+            else:
+                c = classify_file(path, out)
+            counts[c] += 1
+            by_ranks[(c, np_)] += 1
+            if c not in ("accepted", "rejected_located"):
+                keep = os.path.join(args.out, c)
+                os.makedirs(keep, exist_ok=True)
+                shutil.copy(path, keep)
+                log = out if alone else "\n".join(l for l in out.splitlines() if l.startswith(path + ":"))
+                with open(os.path.join(keep, os.path.basename(path) + ".np%d.log" % np_), "w") as fh:
+                    fh.write("$ %s\n(exit %d%s)\n%s\n" % (" ".join(cmd), rc, ", timed out" if timed_out else "", log))
+                print("fuzz: %s (np %d): %s, kept in %s" % (os.path.basename(path), np_, c, keep), flush=True)
+            elif c == "accepted" and len(pool) < 500:
+                pool.append(data)  # accepted mutants seed further mutations
+                seeds.append((ext, data))
+            os.remove(path)
+            n += 1
+        if batches % 20 == 0:
+            print("fuzz: %d runs: %s" % (n, dict(counts)), flush=True)
+    classes = ["accepted", "rejected_located", "rejected_unlocated", "crash", "sanitizer", "leak", "hang"]
+    lines = ["fuzz summary: %d runs in %g minutes (random seed %d)" % (n, args.minutes, seed)]
+    for c in classes:
+        lines.append("  %-19s %6d   (np 1: %d, np 2: %d)" % (c, counts[c], by_ranks[(c, 1)], by_ranks[(c, 2)]))
+    text = "\n".join(lines)
+    print(text)
+    with open(os.path.join(args.out, "summary.txt"), "w") as fh:
+        fh.write(text + "\n")
+    bad = sum(counts[c] for c in classes[2:])
+    sys.exit(1 if bad else 0)
+
+
+if __name__ == "__main__":
+    main()
