@@ -79,14 +79,9 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableCon
 /* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
 
-/* Developer accessors of FDEMDeformable used by contact (defined in
-   src/model/deformable.cpp). GetLocalCells: this rank's cells with their 4
-   local node indices (the node numbering of the local vectors of the
-   external-force hook; positive reference volume), body, global element id,
-   and the global id of every local node; any array may be NULL (call first
-   with NULL arrays for the sizes). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm, PetscInt body, PetscInt *nbodies, const char **name);
+/* The developer accessors of FDEMDeformable that contact uses
+   (FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName) are declared in
+   fdem/deformable.h, developer section. */
 
 #if defined(__cplusplus)
 }

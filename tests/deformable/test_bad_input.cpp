@@ -109,6 +109,7 @@ int main(int argc, char **argv) {
   }
   PetscCall(FDEMDeformableDestroy(&d));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bad input test passed\n"));
+  PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
-  return 0;
+  return failures ? 1 : 0;
 }
