@@ -1,8 +1,8 @@
 /* Contact between deformable bodies (FDEMDeformable): Munjiza's potential
-   contact force (book 2.6, SPEC.md C) between the surface tetrahedra (those
+   contact force (book 2.6, doc/book.md C) between the surface tetrahedra (those
    with a boundary face) of different bodies, candidate pairs from a
    linear-cost cell search over their bounding spheres with a buffer (book
-   3.10-3.11, SPEC.md D.2), optional damping and Coulomb friction; the nodal
+   3.10-3.11, doc/book.md D), optional damping and Coulomb friction; the nodal
    forces go into the FE force vector through FDEMDeformableSetExternalForce.
    See doc/contact_deformable.md.
 

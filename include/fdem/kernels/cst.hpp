@@ -1,5 +1,5 @@
 // The constant-strain tetrahedron with finite strain (Munjiza 2004, section
-// 4.8, eqs 4.209-4.221; SPEC.md section E), a compressible neo-Hookean variant
+// 4.8, eqs 4.209-4.221; doc/book.md E), a compressible neo-Hookean variant
 // and a small-strain linear tetrahedron, behind one batched internal-force
 // kernel. See doc/element.md.
 //
