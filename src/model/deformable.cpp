@@ -237,6 +237,8 @@ PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable d, const PetscReal lo[
   PetscFunctionReturn(0);
 }
 
+// ---------------------------------------------------------------- internal accessors
+// Declared in src/model/deformable_impl.hpp, for the layers above (src/scene).
 PetscErrorCode fdem::model::DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx) {
   PetscFunctionBegin;
   *fn  = d->ext;

@@ -4,6 +4,7 @@
 // table.hpp registers it.
 #pragma once
 #include "neo_hookean.hpp"
+#include "tensor.hpp"
 
 #include <cmath>
 
@@ -23,12 +24,9 @@ struct MunjizaCST {
   static constexpr int kCost = 2;
   // Symmetric tensors are stored as (xx, yy, zz, xy, yz, xz); F row-major.
   static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
-    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
-    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
-    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
-    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
-    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
-    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
+    double B[6];
+    LeftCauchyGreen(F, B);
+    const double B0 = B[0], B1 = B[1], B2 = B[2], B3 = B[3], B4 = B[4], B5 = B[5];
     const double cj = std::cbrt(J);
     const double j23 = cj * cj, ij23 = 1.0 / j23;
     const double a = 0.5 * c.c_dev * ij23;                      // E/(1+nu) * (1/2) / J^(2/3)

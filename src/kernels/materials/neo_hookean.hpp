@@ -2,6 +2,8 @@
 // split, for stretches beyond ~20%; doc/element.md. One home for its stress,
 // strain energy and partition weight; the row in table.hpp registers it.
 #pragma once
+#include "tensor.hpp"
+
 #include <cmath>
 
 #include <fdem/kernels/cst.hpp>
@@ -14,12 +16,9 @@ struct NeoHookean {
   static constexpr bool kSmallStrain = false;
   static constexpr int kCost = 2; // relative kernel cost (bench/cst_kernel), the METIS element weight
   static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
-    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
-    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
-    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
-    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
-    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
-    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
+    double B[6];
+    LeftCauchyGreen(F, B);
+    const double B0 = B[0], B1 = B[1], B2 = B[2], B3 = B[3], B4 = B[4], B5 = B[5];
     const double cj = std::cbrt(J);
     const double iJ = 1.0 / J;
     const double g = c.G * iJ / (cj * cj);  // G / J * J^(-2/3)

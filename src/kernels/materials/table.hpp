@@ -5,8 +5,8 @@
 // FDEMMaterialModels (src/model/deformable.cpp) are generated from it.
 //
 // A new material: write src/kernels/materials/<name>.hpp (a struct with kName,
-// kSmallStrain, kCost, Stress and Energy, as the files below), include it
-// here and add one ROW; see doc/architecture.md.
+// kSmallStrain, kCost, Stress and Energy, as the files below; tensor.hpp has
+// shared pieces), include it here and add one ROW; see doc/architecture.md.
 #pragma once
 #include "munjiza_cst.hpp"
 #include "neo_hookean.hpp"
