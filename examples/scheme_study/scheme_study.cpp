@@ -1,5 +1,5 @@
 // Munjiza's comparison study of the explicit schemes (book section 5.3,
-// printed pp. 207-210; SPEC.md A.3) for all 13 fdem TS types, run through
+// printed pp. 207-210; doc/book.md A) for all 13 fdem TS types, run through
 // the real TS implementations on the book's oscillator x'' = -x, x(0) = 0,
 // v(0) = 1 (exact x = sin t), given to the TS exactly as for
 // -ts_type basicsymplectic: "position"/"momentum" splits, dx/dt = v, dv/dt = -x.

@@ -1,6 +1,6 @@
-// The book's spinning axisymmetric element (Munjiza 2004, Fig 5.6-5.9; SPEC.md
-// B.6): principal moments I = diag(1, 1, 2) -- the printed (5.94) has I and J
-// swapped, see SPEC B.6 -- and body-frame angular velocity
+// The book's spinning axisymmetric element (Munjiza 2004, Fig 5.6-5.9;
+// doc/book.md B): principal moments I = diag(1, 1, 2) -- the printed (5.94) has I and J
+// swapped, see doc/book.md B -- and body-frame angular velocity
 // omega0 = (0, 1, 100), no torque. Euler's equations give, in the body frame,
 //   omega_x = -sin 100 t,  omega_y = cos 100 t,  omega_z = 100.
 // Runs one rigid body with -ts_type (default cd) and -fdem_rigid_rotation

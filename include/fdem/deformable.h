@@ -150,6 +150,18 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableGetMinJacobian(FDEMDeformable dfm, Vec
    ParaView opens. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable dfm, Vec U, const char *base, PetscInt step, PetscReal t);
 
+/* ---- developer section ---------------------------------------------------
+   For code built on FDEMDeformable (contact, scenes); not needed to run a
+   simulation. Defined in src/model/deformable.cpp.
+   GetLocalCells: this rank's cells with their 4 local node indices (the node
+   numbering of the local vectors of the external-force hook; positive
+   reference volume), body, global element id, and the global id of every
+   local node; any array may be NULL (call first with NULL arrays for the
+   sizes). GetBodyName: the name of body `body` ("?" if out of range) and the
+   number of bodies. Both after FDEMDeformableSetUp. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm, PetscInt body, PetscInt *nbodies, const char **name);
+
 #if defined(__cplusplus)
 }
 #endif

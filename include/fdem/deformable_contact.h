@@ -1,8 +1,8 @@
 /* Contact between deformable bodies (FDEMDeformable): Munjiza's potential
-   contact force (book 2.6, SPEC.md C) between the surface tetrahedra (those
+   contact force (book 2.6, doc/book.md C) between the surface tetrahedra (those
    with a boundary face) of different bodies, candidate pairs from a
    linear-cost cell search over their bounding spheres with a buffer (book
-   3.10-3.11, SPEC.md D.2), optional damping and Coulomb friction; the nodal
+   3.10-3.11, doc/book.md D), optional damping and Coulomb friction; the nodal
    forces go into the FE force vector through FDEMDeformableSetExternalForce.
    See doc/contact_deformable.md.
 
@@ -79,14 +79,9 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableCon
 /* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
 
-/* Developer accessors of FDEMDeformable used by contact (defined in
-   src/model/deformable.cpp). GetLocalCells: this rank's cells with their 4
-   local node indices (the node numbering of the local vectors of the
-   external-force hook; positive reference volume), body, global element id,
-   and the global id of every local node; any array may be NULL (call first
-   with NULL arrays for the sizes). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm, PetscInt body, PetscInt *nbodies, const char **name);
+/* The developer accessors of FDEMDeformable that contact uses
+   (FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName) are declared in
+   fdem/deformable.h, developer section. */
 
 #if defined(__cplusplus)
 }

@@ -200,8 +200,9 @@ PetscErrorCode Search(FDEMDeformableContact c, bool with_v) {
   for (int i = nl; i < N; ++i) Sphere(TetAt(c, i), 0.5 * c->buffer, &centres[3 * (size_t)i], &radii[i]);
   for (int i = 0; i < N; ++i) dmax = std::max(dmax, 2 * radii[i]);
   c->pairs.clear();
-  if (nl > 0) {
+  { // fdem::Guard is collective: every rank enters it
     PetscCall(fdem::Guard(c->comm, [&]() -> PetscErrorCode {
+      if (nl == 0) return 0;
       fdem::kernels::CellSearch        cs;
       std::vector<std::pair<int, int>> tp;
       cs.Build(centres.data(), radii.data(), N, dmax * (1 + 1e-12));

@@ -170,8 +170,9 @@ PetscErrorCode Search(FDEMContact c) {
     }
   }
   c->pairs.clear();
-  if (!radii.empty()) {
+  { // fdem::Guard is collective: every rank enters it
     PetscCall(fdem::Guard(c->comm, [&]() -> PetscErrorCode {
+      if (radii.empty()) return 0;
       fdem::kernels::CellSearch        cs;
       std::vector<std::pair<int, int>> tp;
       cs.Build(centres.data(), radii.data(), (int)radii.size(), dmax * (1 + 1e-12));

@@ -1,5 +1,5 @@
 // Munjiza's potential contact force between two tetrahedra (book 2.6,
-// eqs 2.35-2.55; SPEC.md C.2-C.4). Written from the equations, see
+// eqs 2.35-2.55; doc/book.md C). Written from the equations, see
 // doc/contact.md for the derivation of every weight used here.
 #include "fdem/kernels/contact.hpp"
 

@@ -7,82 +7,14 @@
 
 #include <fdem/kernels/error.hpp>
 
+#include "materials/table.hpp"
+
 namespace fdem::kernels {
 
-// ---------------------------------------------------------------- materials
-// Symmetric tensors are stored as (xx, yy, zz, xy, yz, xz).
+// ---------------------------------------------------------------- the batched loop
+// The constitutive models live in materials/ (one file each) and are listed in
+// materials/table.hpp; symmetric tensors are stored as (xx, yy, zz, xy, yz, xz).
 namespace {
-
-// Book eq 4.220 with 4.215, 4.218, 4.219 (J = det F > 0 here):
-//   T = E/(1+nu) Ed / J^(2/3) + E/(1-2nu) Es / J^(2/3) + 2 mu D / J^(2/3)
-//   Ed = (B / J^(2/3) - I) / 2,  Es = (J^(2/3) - 1) I / 2,  B = F F^T.
-// Small strain: Ed -> dev(eps), Es -> tr(eps)/3 I, so T -> 2G dev(eps) + K tr(eps) I
-// which is Hooke's law exactly (doc/element.md).
-struct MunjizaCSTModel {
-  static constexpr bool kSmallStrain = false;
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
-    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
-    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
-    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
-    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
-    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
-    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
-    const double cj = std::cbrt(J);
-    const double j23 = cj * cj, ij23 = 1.0 / j23;
-    const double a = 0.5 * c.c_dev * ij23;                      // E/(1+nu) * (1/2) / J^(2/3)
-    const double aB = a * ij23;                                  // ... times B / J^(2/3)
-    const double s = 0.5 * c.c_vol * (j23 - 1.0) * ij23 - a;     // volumetric part and the -I of Ed
-    const double w = c.c_visc * ij23;                            // 2 mu / J^(2/3)
-    T[0] = aB * B0 + s + w * D[0];
-    T[1] = aB * B1 + s + w * D[1];
-    T[2] = aB * B2 + s + w * D[2];
-    T[3] = aB * B3 + w * D[3];
-    T[4] = aB * B4 + w * D[4];
-    T[5] = aB * B5 + w * D[5];
-  }
-};
-
-// Compressible neo-Hookean (isochoric/volumetric split):
-//   T = G/J dev(J^(-2/3) B) + K/2 (J - 1/J) I + 2 mu D.
-struct NeoHookeanModel {
-  static constexpr bool kSmallStrain = false;
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
-    const double B0 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
-    const double B1 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5];
-    const double B2 = F[6] * F[6] + F[7] * F[7] + F[8] * F[8];
-    const double B3 = F[0] * F[3] + F[1] * F[4] + F[2] * F[5];
-    const double B4 = F[3] * F[6] + F[4] * F[7] + F[5] * F[8];
-    const double B5 = F[0] * F[6] + F[1] * F[7] + F[2] * F[8];
-    const double cj = std::cbrt(J);
-    const double iJ = 1.0 / J;
-    const double g = c.G * iJ / (cj * cj);  // G / J * J^(-2/3)
-    const double tr3 = (B0 + B1 + B2) * (1.0 / 3.0);
-    const double p = 0.5 * c.K * (J - iJ) - g * tr3;
-    const double w = c.c_visc;
-    T[0] = g * B0 + p + w * D[0];
-    T[1] = g * B1 + p + w * D[1];
-    T[2] = g * B2 + p + w * D[2];
-    T[3] = g * B3 + w * D[3];
-    T[4] = g * B4 + w * D[4];
-    T[5] = g * B5 + w * D[5];
-  }
-};
-
-// Small-strain linear tetrahedron: eps = sym(F) - I, T = lambda tr(eps) I + 2G eps + 2 mu sym(Fdot).
-// Forces use the reference geometry (f = -K u). Not objective: a rigid rotation strains it.
-struct SmallStrainLinearModel {
-  static constexpr bool kSmallStrain = true;
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double /*J*/, const double *D, double *T) {
-    const double e0 = F[0] - 1.0, e1 = F[4] - 1.0, e2 = F[8] - 1.0;
-    const double G2 = 2.0 * c.G, lt = c.lambda * (e0 + e1 + e2), w = c.c_visc;
-    T[0] = G2 * e0 + lt + w * D[0];
-    T[1] = G2 * e1 + lt + w * D[1];
-    T[2] = G2 * e2 + lt + w * D[2];
-    T[3] = c.G * (F[1] + F[3]) + w * D[3];
-    T[4] = c.G * (F[5] + F[7]) + w * D[4];
-    T[5] = c.G * (F[2] + F[6]) + w * D[5];
-  }
-};
 
 // Diagnostics written by Core when requested.
 struct Extra {
@@ -224,9 +156,36 @@ void StressPoint(const MaterialCoeffs &c, const double *F, double J, const doubl
   Model::Stress(c, F, J, D, T);
 }
 
+// Kinematics, stress and nodal forces of one element into a TetState (false if skipped).
+bool ToTetState(const double *T, const double *fe, const Extra &ex, int st, TetState &out) {
+  out = TetState{};
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) out.F(r, cc) = ex.F[3 * r + cc], out.L(r, cc) = ex.L[3 * r + cc];
+  const int idx[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+  for (int r = 0; r < 3; ++r)
+    for (int cc = 0; cc < 3; ++cc) out.D(r, cc) = ex.D[idx[r][cc]], out.T(r, cc) = T[idx[r][cc]];
+  out.J = ex.J;
+  for (int a = 0; a < 4; ++a) out.force[a] = {fe[3 * a], fe[3 * a + 1], fe[3 * a + 2]};
+  if (st == 1) {
+    out.T = Mat3{};
+    out.force = {};
+    return false;
+  }
+  return st == 0;
+}
+
 template <class Model>
-MaterialModel Entry(const char *name) {
-  return {name, Model::kSmallStrain, &StressPoint<Model>, &Batch<Model, true>, &Batch<Model, false>};
+bool EvaluateOne(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, TetState &out) {
+  double T[6] = {0, 0, 0, 0, 0, 0}, fe[12] = {0};
+  Extra ex{};
+  const int st = v ? Core<Model, true, true>(el, c, x, v, T, fe, &ex) : Core<Model, false, true>(el, c, x, v, T, fe, &ex);
+  return ToTetState(T, fe, ex, st, out);
+}
+
+template <class Model>
+MaterialModel Entry() {
+  return {Model::kName, Model::kSmallStrain, Model::kCost, &StressPoint<Model>, &Model::Energy, &EvaluateOne<Model>,
+          &Batch<Model, true>, &Batch<Model, false>};
 }
 
 std::string MatName(const Material &m) { return "material '" + m.name + "'"; }
@@ -234,12 +193,10 @@ std::string MatName(const Material &m) { return "material '" + m.name + "'"; }
 } // namespace
 
 const std::vector<MaterialModel> &MaterialModels() {
-  // Order matches MaterialModelId. A new model: one struct above + one line here.
-  static const std::vector<MaterialModel> table = {
-      Entry<MunjizaCSTModel>("munjiza_cst"),
-      Entry<NeoHookeanModel>("neo_hookean"),
-      Entry<SmallStrainLinearModel>("small_strain_linear"),
-  };
+  // Order matches MaterialModelId; the rows are those of materials/table.hpp.
+#define FDEM_MATERIAL_ENTRY(M) Entry<M>(),
+  static const std::vector<MaterialModel> table = {FDEM_MATERIAL_TABLE(FDEM_MATERIAL_ENTRY)};
+#undef FDEM_MATERIAL_ENTRY
   return table;
 }
 
@@ -372,40 +329,9 @@ std::string InversionMessage(const ElementData &data, std::int64_t e, const doub
   return o.str();
 }
 
-namespace {
-template <class Model>
-int CoreDiag(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, double *T, double *fe,
-             Extra *ex) {
-  return v ? Core<Model, true, true>(el, c, x, v, T, fe, ex) : Core<Model, false, true>(el, c, x, v, T, fe, ex);
-}
-} // namespace
-
 bool EvaluateTet(const ElementData &data, std::size_t e, const double *x, const double *v, TetState &out) {
   const TetElement &el = data.elems.at(e);
-  const MaterialCoeffs &c = data.coeffs[el.material];
-  double T[6] = {0, 0, 0, 0, 0, 0}, fe[12] = {0};
-  Extra ex{};
-  int st = 0;
-  switch (data.materials[el.material].model) {
-  case kMunjizaCST: st = CoreDiag<MunjizaCSTModel>(el, c, x, v, T, fe, &ex); break;
-  case kNeoHookean: st = CoreDiag<NeoHookeanModel>(el, c, x, v, T, fe, &ex); break;
-  case kSmallStrainLinear: st = CoreDiag<SmallStrainLinearModel>(el, c, x, v, T, fe, &ex); break;
-  default: throw InputError(MatName(data.materials[el.material]) + ": EvaluateTet does not know this model");
-  }
-  out = TetState{};
-  for (int r = 0; r < 3; ++r)
-    for (int cc = 0; cc < 3; ++cc) out.F(r, cc) = ex.F[3 * r + cc], out.L(r, cc) = ex.L[3 * r + cc];
-  const int idx[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
-  for (int r = 0; r < 3; ++r)
-    for (int cc = 0; cc < 3; ++cc) out.D(r, cc) = ex.D[idx[r][cc]], out.T(r, cc) = T[idx[r][cc]];
-  out.J = ex.J;
-  for (int a = 0; a < 4; ++a) out.force[a] = {fe[3 * a], fe[3 * a + 1], fe[3 * a + 2]};
-  if (st == 1) {
-    out.T = Mat3{};
-    out.force = {};
-    return false;
-  }
-  return st == 0;
+  return MaterialModels()[data.materials[el.material].model].evaluate(el, data.coeffs[el.material], x, v, out);
 }
 
 Mat3 CauchyStress(const Material &m, const Mat3 &F, const Mat3 &L) {

@@ -1,4 +1,4 @@
-// Munjiza-NBS style cell search (book ch. 3, SPEC.md D.2), sort form.
+// Munjiza-NBS style cell search (book ch. 3, doc/book.md D), sort form.
 // The book keeps z-, y- and x-lists in integer arrays indexed by cell
 // coordinate (C[n_z], B[2][n_y], A[2][n_x]); here the same (z, y, x) order
 // comes from an LSD radix sort of packed cell keys, so nothing is indexed by

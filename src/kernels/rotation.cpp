@@ -1,5 +1,5 @@
 // Free rotation of a rigid body (see include/fdem/kernels/rotation.hpp and
-// doc/rotation.md). Written from the book's equations (SPEC B.4-B.5), from
+// doc/rotation.md). Written from the book's equations (doc/book.md B), from
 // Miller et al. (2002) for NO_SQUISH and from the classical Jacobi-elliptic
 // solution of Euler's equations (Landau & Lifshitz, Mechanics, section 37).
 #include <fdem/kernels/rotation.hpp>
@@ -368,7 +368,7 @@ Mat3 ExactRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
 }
 
 Mat3 MunjizaRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
-  // Steps 1-6 of SPEC B.5 with the typos corrected and the consistent stage 1
+  // Steps 1-6 of doc/book.md B with the typos corrected and the consistent stage 1
   // (omega from H, so any impulse already added to H is seen by every stage).
   const Vec3 w1 = BodyOmega(R, I, H);
   const Mat3 R1 = RotateTriad(R, 0.5 * s * w1);

@@ -1,5 +1,6 @@
-// Internal: pieces of the deformable model for a combined state assembled
-// elsewhere (src/scene). Behaviour is that of FDEMDeformableSetUpTS's RHS.
+// Internal: what other layers (src/scene) use of the deformable model, for a
+// combined state assembled elsewhere. Behaviour is that of
+// FDEMDeformableSetUpTS's RHS. The object itself is in deformable_object.hpp.
 #pragma once
 #include <fdem/deformable.h>
 
@@ -9,7 +10,8 @@
 namespace fdem::model {
 // dv/dt of the owned nodes (3 per owned node) from owned positions xo and
 // velocities vo (vo feeds the viscous term and the external-force hook; may be
-// null): (f_int + f_ext)/m + g, 0 at fixed nodes. Collective.
+// null): (f_int + f_ext)/m + g, 0 at fixed nodes. The one implementation of
+// this rule; FDEMDeformableSetUpTS's RHS calls it too. Collective.
 PetscErrorCode DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *ao);
 // The external-force hook currently set (to chain it).
 PetscErrorCode DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx);

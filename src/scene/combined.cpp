@@ -4,6 +4,7 @@
 #include "../model/deformable_impl.hpp"
 #include "../model/rigid_impl.hpp"
 #include "../contact/surface.hpp"
+#include "../util/guard.hpp"
 #include "../util/halo.hpp"
 #include "../contact/params.hpp"
 #include <fdem/scene.h>
@@ -90,28 +91,6 @@ namespace {
 // Offsets in the combined state.
 inline PetscInt OffRigid(FDEMScene s) { return 3 * s->nd; }
 inline PetscInt OffDefV(FDEMScene s) { return 3 * s->nd + 18 * s->nr; }
-
-// fdem::Guard, collective: an exception (a kernel's InputError naming the element) on any rank
-// becomes the same error on every rank (the first failing rank's message), so no rank hangs.
-template <class F>
-PetscErrorCode CollectiveGuard(MPI_Comm comm, F &&f) {
-  char           msg[512] = "";
-  PetscErrorCode ierr     = 0;
-  PetscMPIInt    rank, bad, first;
-  PetscFunctionBegin;
-  try {
-    ierr = f();
-  } catch (const std::exception &e) {
-    PetscCall(PetscStrncpy(msg, e.what(), sizeof(msg)));
-  }
-  PetscCall(ierr);
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  bad = msg[0] ? rank : PETSC_MPI_INT_MAX;
-  PetscCallMPI(MPI_Allreduce(&bad, &first, 1, MPI_INT, MPI_MIN, comm));
-  if (first == PETSC_MPI_INT_MAX) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, first, comm));
-  SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", msg);
-}
 
 // ---------------------------------------------------------------- contact set-up
 // At FDEMSceneSetUpTS: the mesh cells taking part, and this rank's rigid bodies (which may have
@@ -316,7 +295,7 @@ PetscErrorCode ContactSearch(FDEMScene s, const PetscScalar *xl) {
     }
   }
   c.pairs.clear();
-  PetscCall(CollectiveGuard(s->comm, [&]() -> PetscErrorCode {
+  PetscCall(fdem::Guard(s->comm, [&]() -> PetscErrorCode {
     if (c.cells.empty() || rig.empty()) return 0;
     std::vector<std::pair<int, int>> tp;
     c.cs.Build(centres.data(), radii.data(), (int)radii.size(), dmax * (1 + 1e-12));
@@ -384,7 +363,7 @@ PetscErrorCode ContactForces(FDEMScene s, const PetscScalar *xl, const PetscScal
   PetscReal             energy = 0;
   PetscInt              active = 0;
   std::array<double, 5> deep{0, -1, -1, -1, -1}; // worst initial overlap: ratio to the limit, pair index
-  PetscCall(CollectiveGuard(s->comm, [&]() -> PetscErrorCode {
+  PetscCall(fdem::Guard(s->comm, [&]() -> PetscErrorCode {
     fdem::kernels::TetPairContact pc;
     const bool                    dissipative = c.diss.normal_damping > 0 || c.diss.friction > 0 || c.diss.tangential_viscosity > 0;
     for (size_t ip = 0; ip < c.pairs.size(); ++ip) {

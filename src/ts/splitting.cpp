@@ -1,5 +1,5 @@
 // The splitting schemes: one kick/drift stepping engine driven by coefficient
-// tables (DESIGN.md, "The splitting engine's contract").
+// tables (doc/architecture.md, "The splitting contract").
 //   kick(c h):  p += c h F_p(q)            [+ xi h^3 G, G = 2 (da/dx) a, for force-gradient kicks]
 //   drift(c h): q += c h F_q(p)            (or the problem's own drift)
 // A scheme that starts and ends with a kick reuses the last force of a step as

@@ -1,9 +1,15 @@
-// Shared by the PETSc test programs: CHECK counts a failure and prints why;
-// ExpectError runs f with errors returned (not aborted) and checks that it
-// fails with a message containing `needle`.
+// The one CHECK and ExpectError of the PETSc test programs.
+//  - CHECK(cond, fmt, ...) counts a failure and prints "FAIL: <message>"; the
+//    test goes on, so one run reports every failing check. main ends with
+//        PetscCall(ReportChecks()); PetscCall(PetscFinalize()); return failures ? 1 : 0;
+//  - ExpectError(what, needles, f) runs f with PETSc errors returned (not
+//    aborted) and checks that it fails with a message containing every
+//    needle (one string or a list); prints "ok: what -> message" when it does.
 #pragma once
 #include <petscsys.h>
+
 #include <cstring>
+#include <initializer_list>
 
 static int failures = 0;
 #define CHECK(cond, ...) \
@@ -16,14 +22,33 @@ static int failures = 0;
   } while (0)
 
 template <class F>
-static PetscErrorCode ExpectError(const char *what, const char *needle, F &&f) {
+static PetscErrorCode ExpectError(const char *what, std::initializer_list<const char *> needles, F &&f) {
   char *msg = nullptr;
+  bool  all = true;
   PetscFunctionBeginUser;
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
   PetscErrorCode ierr = f();
   PetscCall(PetscPopErrorHandler());
   if (ierr) PetscCall(PetscErrorMessage(ierr, nullptr, &msg));
-  CHECK(ierr && msg && std::strstr(msg, needle), "%s: expected an error mentioning \"%s\", got %s", what, needle, ierr ? msg : "no error");
-  if (ierr) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s -> %s\n", what, msg));
+  CHECK(ierr && msg, "%s: expected an error, got none", what);
+  if (!ierr || !msg) PetscFunctionReturn(0);
+  for (const char *n : needles) {
+    const bool found = std::strstr(msg, n) != nullptr;
+    CHECK(found, "%s: expected an error mentioning \"%s\", got: %s", what, n, msg);
+    all = all && found;
+  }
+  if (all) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s -> %s\n", what, msg));
+  PetscFunctionReturn(0);
+}
+
+template <class F>
+static PetscErrorCode ExpectError(const char *what, const char *needle, F &&f) {
+  return ExpectError(what, {needle}, f);
+}
+
+// Prints the number of failed checks, if any (call before PetscFinalize).
+static inline PetscErrorCode ReportChecks() {
+  PetscFunctionBeginUser;
+  if (failures) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d failure(s)\n", failures));
   PetscFunctionReturn(0);
 }

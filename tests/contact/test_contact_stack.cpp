@@ -18,6 +18,8 @@
 //  3. the blocks stay stacked: no sideways slip beyond the drift bound.
 // The blocks alternate around x = 0, the boundary between the slabs of rank 0
 // and rank 1, so on 2 ranks every contact between blocks crosses ranks.
+#include "../common/check.hpp"
+
 #include <fdem.h>
 #include <fdem/contact.h>
 #include <fdem/rigid.h>
@@ -27,16 +29,6 @@
 #include <vector>
 
 using fdem::kernels::Vec3;
-
-static int failures = 0;
-#define CHECK(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      failures++; \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-    } \
-  } while (0)
 
 struct Mesh {
   std::vector<PetscReal> nodes;

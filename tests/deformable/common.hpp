@@ -1,32 +1,13 @@
 // Helpers shared by the deformable-body tests.
 #pragma once
+#include "../common/check.hpp"
+
 #include <fdem.h>
 #include <fdem/deformable.h>
 #include <fdem/kernels/tetmesh.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <vector>
-
-#define CHECK(cond, ...) \
-  do { \
-    if (!(cond)) SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_PLIB, __VA_ARGS__); \
-  } while (0)
-
-// Runs f with errors returned instead of printed; checks the error message contains every needle.
-template <class F>
-PetscErrorCode ExpectError(const char *what, std::initializer_list<const char *> needles, F &&f) {
-  char *msg = nullptr;
-  PetscFunctionBeginUser;
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
-  PetscErrorCode ierr = f();
-  PetscCall(PetscPopErrorHandler());
-  if (ierr) PetscCall(PetscErrorMessage(ierr, nullptr, &msg));
-  CHECK(ierr && msg, "%s: expected an error, got none", what);
-  for (const char *n : needles) CHECK(std::strstr(msg, n), "%s: expected an error mentioning \"%s\", got: %s", what, n, msg);
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: %s -> %s\n", what, msg));
-  PetscFunctionReturn(0);
-}
 
 // A kernel mesh handed to FDEMDeformableSetMesh (rank 0's copy is used).
 inline PetscErrorCode SetKernelMesh(FDEMDeformable d, const fdem::kernels::TetMesh &M) {

@@ -1,6 +1,10 @@
 // Bad input gives collective errors that name what is wrong (run on 1 and 2
 // ranks: no rank may hang while another fails).
 #include "common.hpp"
+#include "../../src/util/guard.hpp"
+
+#include <fdem/kernels/cst.hpp>
+#include <fdem/kernels/error.hpp>
 
 #include <cstdio>
 #include <string>
@@ -109,6 +113,30 @@ int main(int argc, char **argv) {
   }
   PetscCall(FDEMDeformableDestroy(&d));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bad input test passed\n"));
+  // the option names of FDEMMaterialModel are the rows of the material table, in order
+  {
+    const auto &models = fdem::kernels::MaterialModels();
+    size_t      n      = 0;
+    while (FDEMMaterialModels[n] && std::string(FDEMMaterialModels[n]) != "FDEMMaterialModel") ++n;
+    CHECK(n == models.size(), "FDEMMaterialModels has %d names, the material table %d rows", (int)n, (int)models.size());
+    for (size_t i = 0; i < n && i < models.size(); ++i) CHECK(std::string(FDEMMaterialModels[i]) == models[i].name, "model %d: option name %s, table %s", (int)i, FDEMMaterialModels[i], models[i].name);
+    CHECK(std::string(FDEMMaterialModels[FDEM_MATERIAL_SMALL_STRAIN_LINEAR]) == "small_strain_linear", "the C enum and the table disagree");
+  }
+  // the error guard is collective: an exception on the last rank only stops every rank, with its message
+  {
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+    PetscCall(ExpectError("exception on the last rank", {"guard test: ", "thrown on the last rank"}, [&]() {
+      return fdem::Guard(
+        PETSC_COMM_WORLD,
+        [&]() -> PetscErrorCode {
+          if (rank == size - 1) throw fdem::kernels::InputError("thrown on the last rank");
+          return 0;
+        },
+        PETSC_ERR_USER_INPUT, "guard test: ");
+    }));
+  }
+  PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
-  return 0;
+  return failures ? 1 : 0;
 }

@@ -104,6 +104,7 @@ int main(int argc, char **argv) {
     CHECK(dx < 1e-9 * xs, "nodal values differ: %g", dx);
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "energy test passed\n"));
+  PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
-  return 0;
+  return failures ? 1 : 0;
 }

@@ -147,6 +147,7 @@ int main(int argc, char **argv) {
     PetscCall(FDEMDeformableDestroy(&d));
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "patch test passed\n"));
+  PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
-  return 0;
+  return failures ? 1 : 0;
 }

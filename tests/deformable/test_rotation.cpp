@@ -170,6 +170,7 @@ int main(int argc, char **argv) {
   CHECK(e_cst < 3e-3, "finite-strain element: shape not conserved (%g)", e_cst);
   CHECK(e_lin > 0.1, "small-strain element: expected the spinning body to lose its shape, got %g", e_lin);
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "rotation test passed\n"));
+  PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
-  return 0;
+  return failures ? 1 : 0;
 }

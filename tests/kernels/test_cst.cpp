@@ -1,4 +1,4 @@
-// Tests of the constant-strain tetrahedron (book section 4.8, SPEC E).
+// Tests of the constant-strain tetrahedron (book section 4.8, doc/book.md E).
 #include <fdem/kernels/cst.hpp>
 #include <fdem/kernels/error.hpp>
 #include <fdem/kernels/tetmesh.hpp>

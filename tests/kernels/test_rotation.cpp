@@ -186,7 +186,7 @@ TEST(Rotation, BookAxisymmetricExample) {
       EXPECT_NEAR(Order(e[1], e[2], 2), 2.0, 0.15) << FreeRotationName(k);
     }
     if (k == FreeRotation::Munjiza) {
-      // SPEC B.6: ~1.0e-2 at h = 5e-4 (0.0103 -> 0.00258 -> 0.00065 on halving).
+      // doc/book.md B: ~1.0e-2 at h = 5e-4 (0.0103 -> 0.00258 -> 0.00065 on halving).
       EXPECT_NEAR(e[2], 1.03e-2, 0.1e-2);
       EXPECT_NEAR(e[3], 2.58e-3, 0.1e-3);
       EXPECT_NEAR(e[4], 6.5e-4, 0.1e-4 * 3);

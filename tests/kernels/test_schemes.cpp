@@ -1,5 +1,5 @@
 // Exact stability limits of the schemes from the spectral radius of their
-// linear step maps on x'' = -x, against SPEC.md's checked values (Table 5.2).
+// linear step maps on x'' = -x, against the exact values of doc/book.md A (Table 5.2).
 #include <fdem/kernels/schemes.hpp>
 #include <gtest/gtest.h>
 #include <cmath>
@@ -37,7 +37,7 @@ TEST(SchemeStability, StoredLimitsAreTheAnalysedOnes) {
 }
 
 TEST(SchemeStability, PC4IsUnstableAtEveryStep) {
-  // SPEC.md: rho - 1 ~ 6e-10 at K = 0.05 and ~5e-7 at K = 0.155
+  // doc/book.md A: rho - 1 ~ 6e-10 at K = 0.05 and ~5e-7 at K = 0.155
   for (double K : {0.01, 0.05, 0.1, 0.155, 0.3}) EXPECT_GT(SchemeSpectralRadius("pc4", K), 1.0 + 1e-14) << K;
   EXPECT_NEAR(SchemeSpectralRadius("pc4", 0.155) - 1, 5e-7, 3e-7);
 }

@@ -104,7 +104,7 @@ int main(int argc, char **argv) {
   const FDEMRotationType rots[3] = {FDEM_ROTATION_MUNJIZA, FDEM_ROTATION_NOSQUISH, FDEM_ROTATION_EXACT};
 
   // 1. the book's axisymmetric element: I = diag(I, I, 2I), omega0 = (0, 1, 100) in the body frame;
-  //    exact: omega_x = -sin 100t, omega_y = cos 100t (SPEC.md B.6)
+  //    exact: omega_x = -sin 100t, omega_y = cos 100t (doc/book.md B)
   {
     const PetscReal I[3] = {1, 1, 2}, w0[3] = {0, 1, 100};
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Book Fig 5.6-5.9, -ts_type cd, t in [0, 0.25]: max |omega_body - exact|\n%-9s %12s %12s %12s\n", "rotation", "h=0.0005", "h=0.001", "h=0.005"));

@@ -5,7 +5,7 @@
 //  - above it, it grows, and the book's amplification factor (5.121) measured
 //    from the TS run equals the exact spectral radius of the step map: the TS
 //    implementation and the stability analysis describe the same scheme.
-// PC-4 has no stable step (rho > 1 at every h > 0; SPEC.md): only the growth
+// PC-4 has no stable step (rho > 1 at every h > 0; doc/book.md A): only the growth
 // checks apply, at the book's 0.155 and above.
 // Near the limit a neutral scheme's step map is close to a rotation by pi and
 // the sampled x beats slowly: bounded, but its maxima over 40 periods can

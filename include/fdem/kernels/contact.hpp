@@ -1,5 +1,5 @@
 // Munjiza's potential contact force between two 4-node tetrahedra
-// (book section 2.6, SPEC.md C.2-C.4), and a simple contact damping and
+// (book section 2.6, doc/book.md C), and a simple contact damping and
 // friction model on top of it. Pure numerics; see doc/contact.md.
 #pragma once
 #include <array>

@@ -1,5 +1,5 @@
 // The constant-strain tetrahedron with finite strain (Munjiza 2004, section
-// 4.8, eqs 4.209-4.221; SPEC.md section E), a compressible neo-Hookean variant
+// 4.8, eqs 4.209-4.221; doc/book.md E), a compressible neo-Hookean variant
 // and a small-strain linear tetrahedron, behind one batched internal-force
 // kernel. See doc/element.md.
 //
@@ -113,17 +113,25 @@ Mat3 CauchyStress(const Material &m, const Mat3 &F, const Mat3 &L = Mat3{});
 std::vector<double> NodalMasses(const ElementData &data, std::size_t n_nodes);
 
 // ---- material model registry ---------------------------------------------
-// A model is a stress function plus its instantiation of the batched loop.
-// Adding one: write a struct with kSmallStrain and Stress() in cst.cpp and add
-// one line to the table there.
+// A model is one file in src/kernels/materials/ (its stress, strain energy and
+// partition weight) plus one row in src/kernels/materials/table.hpp, from which
+// this table (its functions and its instantiations of the batched loop) is
+// built; see doc/architecture.md.
 using BatchFn = std::int64_t (*)(const TetElement *elems, std::size_t first, std::size_t count,
                                  const MaterialCoeffs &c, const double *x, const double *v, double *f);
 // F row-major, D = (xx, yy, zz, xy, yz, xz), T likewise.
 using StressFn = void (*)(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T);
+// Strain energy per reference volume at deformation gradient F (NaN if undefined).
+using EnergyFn = double (*)(const MaterialCoeffs &c, const Mat3 &F);
+// One element as EvaluateTet.
+using EvaluateFn = bool (*)(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, TetState &out);
 struct MaterialModel {
   const char *name;
   bool small_strain;
+  int cost;  // relative cost in the internal-force kernel (bench/cst_kernel): the partition weight
   StressFn stress;
+  EnergyFn energy;
+  EvaluateFn evaluate;
   BatchFn batch;
   BatchFn batch_no_visc;
 };

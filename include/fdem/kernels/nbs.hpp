@@ -1,5 +1,5 @@
 // Linear-cost broad-phase contact detection in 3D: Munjiza-NBS (book ch. 3,
-// SPEC.md D.2) in its sort form. Elements are binned into cubic cells of a
+// doc/book.md D) in its sort form. Elements are binned into cubic cells of a
 // common size d >= every element's diameter; the cell keys are ordered by z,
 // then y, then x with a radix sort, and every non-empty cell is checked
 // against itself and the 13 cells of a half mask (the book's, eq 3.73,

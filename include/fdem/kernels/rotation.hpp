@@ -1,7 +1,7 @@
 // Free (torque-free) rotation of a rigid body: the "drift" of the splitting
 // schemes for rigid discrete elements.
 //
-// Representation (SPEC B.2): the orientation R is a Mat3 whose columns are the
+// Representation (doc/book.md B): the orientation R is a Mat3 whose columns are the
 // body's principal axes in inertial components, so a_inertial = R a_body and
 // a_body = R^T a_inertial. I = (I1, I2, I3) are the principal moments (body
 // frame, same order as the columns of R). H is the space-frame angular

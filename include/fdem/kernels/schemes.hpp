@@ -18,7 +18,7 @@ struct SplittingTable {
   double              kcrit_book; // Table 5.2 (0: not in the book)
 };
 
-// cd, pv, omf30, chin, fr, pefrl, omf32 (Munjiza 5.12-5.13, 5.101, 5.111-5.115; PEFRL from SPEC.md G).
+// cd, pv, omf30, chin, fr, pefrl, omf32 (Munjiza 5.12-5.13, 5.101, 5.111-5.115; PEFRL: doc/book.md A).
 const std::vector<SplittingTable> &BuiltinSplittingTables();
 
 // The step map of scheme `name` on x'' = -x with step K (= omega h), as an

@@ -1,0 +1,178 @@
+// Deformable bodies, assembly: internal forces of the local cells (the CST
+// kernel) plus the external-force hook, assembled over ranks with
+// DMLocalToGlobal(ADD_VALUES); a = f/m + g; the "position"/"momentum" split
+// right-hand sides of FDEMDeformableSetUpTS. See doc/deformable.md.
+#include "deformable_impl.hpp"
+#include "deformable_object.hpp"
+
+#include <cstdint>
+
+using namespace fdem::model::deformable;
+
+PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *fo) {
+  PetscScalar *xl, *vl = nullptr, *fl;
+  PetscFunctionBegin;
+  PetscCall(VecPlaceArray(d->gwork, xo));
+  PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->xloc));
+  PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->xloc));
+  PetscCall(VecResetArray(d->gwork));
+  const bool use_v = vo && d->viscous;
+  if (vo) {
+    PetscCall(VecPlaceArray(d->gwork, vo));
+    PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->vloc));
+    PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->vloc));
+    PetscCall(VecResetArray(d->gwork));
+  }
+  PetscCall(VecSet(d->floc, 0));
+  PetscCall(VecGetArray(d->xloc, &xl));
+  if (use_v) PetscCall(VecGetArray(d->vloc, &vl));
+  PetscCall(VecGetArray(d->floc, &fl));
+  const std::int64_t bad = fdem::kernels::ComputeInternalForces(d->ed, xl, vl, fl);
+  // collective inversion check: the smallest global id of an inverted element
+  PetscInt   gid = bad >= 0 ? d->cell_gid[bad] : PETSC_MAX_INT, gmin;
+  PetscCallMPI(MPI_Allreduce(&gid, &gmin, 1, MPIU_INT, MPI_MIN, d->comm));
+  if (gmin != PETSC_MAX_INT) {
+    PetscReal info[2] = {0, 0}, ginfo[2];
+    if (gid == gmin) {
+      info[0] = d->ed.body[bad];
+      info[1] = ElementJ(d->ed.elems[bad], xl);
+    }
+    PetscCallMPI(MPI_Allreduce(info, ginfo, 2, MPIU_REAL, MPIU_SUM, d->comm));
+    PetscCall(VecRestoreArray(d->floc, &fl));
+    if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
+    PetscCall(VecRestoreArray(d->xloc, &xl));
+    const int b = (int)ginfo[0];
+    SETERRQ(d->comm, PETSC_ERR_NOT_CONVERGED, "FDEMDeformable: element %" PetscInt_FMT " of body '%s' inverted (det F = %g <= 0) at t = %g; reduce the time step or check the loading", gmin, d->body_names[b].c_str(),
+            (double)ginfo[1], (double)t);
+  }
+  PetscCall(VecRestoreArray(d->floc, &fl));
+  if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
+  PetscCall(VecRestoreArray(d->xloc, &xl));
+  if (d->ext) PetscCall(d->ext(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, d->ext_ctx));
+  PetscCall(VecPlaceArray(d->gwork, fo));
+  PetscCall(VecSet(d->gwork, 0));
+  PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, d->gwork));
+  PetscCall(DMLocalToGlobalEnd(d->dm, d->floc, ADD_VALUES, d->gwork));
+  PetscCall(VecResetArray(d->gwork));
+  PetscFunctionReturn(0);
+}
+
+// The one place of "a = f/m + g, zero at fixed nodes": the deformable TS
+// right-hand side below and the combined scene (src/scene) both call it.
+PetscErrorCode fdem::model::DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *a) {
+  const PetscScalar *mi;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "DeformableAcceleration"));
+  PetscCall(AssembleForces(d, t, xo, vo, a));
+  PetscCall(VecGetArrayRead(d->minv, &mi));
+  for (PetscInt k = 0; k < d->nown; ++k) {
+    if (d->fixed[k]) {
+      a[3 * k] = a[3 * k + 1] = a[3 * k + 2] = 0;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) a[3 * k + c] = a[3 * k + c] * mi[3 * k + c] + d->g[c];
+  }
+  PetscCall(VecRestoreArrayRead(d->minv, &mi));
+  PetscFunctionReturn(0);
+}
+
+namespace {
+
+// dx/dt = v
+PetscErrorCode RHSPosition(TS, PetscReal, Vec V, Vec dX, void *) {
+  PetscFunctionBegin;
+  PetscCall(VecCopy(V, dX));
+  PetscFunctionReturn(0);
+}
+
+// dv/dt = (f_int + f_ext)/m + g, 0 at fixed nodes; the viscous term and the
+// external-force hook read v from the TS's current solution.
+PetscErrorCode RHSMomentum(TS, PetscReal t, Vec Xq, Vec A, void *ctx) {
+  FDEMDeformable     d = (FDEMDeformable)ctx;
+  const PetscScalar *xq, *u = nullptr;
+  PetscScalar       *a;
+  Vec                U = nullptr;
+  PetscFunctionBegin;
+  const bool need_v = d->viscous || d->ext;
+  if (need_v && d->ts) {
+    PetscCall(TSGetSolution(d->ts, &U));
+    PetscCall(VecGetArrayRead(U, &u));
+  }
+  PetscCall(VecGetArrayRead(Xq, &xq));
+  PetscCall(VecGetArray(A, &a));
+  PetscCall(fdem::model::DeformableAcceleration(d, t, xq, u ? u + 3 * d->nown : nullptr, a));
+  PetscCall(VecRestoreArray(A, &a));
+  PetscCall(VecRestoreArrayRead(Xq, &xq));
+  if (u) PetscCall(VecRestoreArrayRead(U, &u));
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable d, PetscReal t, Vec U, Vec F) {
+  StateView    sv;
+  PetscScalar *f;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableComputeForces"));
+  PetscCall(sv.Get(d, U));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(AssembleForces(d, t, sv.xa, sv.va, f));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(sv.Restore());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable d, TS ts, Vec *U) {
+  PetscInt     start;
+  PetscScalar *u;
+  const PetscScalar *xa, *va;
+  IS           isq, isp;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableSetUpTS"));
+  const PetscInt n = 3 * d->nown;
+  PetscCall(VecCreateMPI(d->comm, 2 * n, PETSC_DETERMINE, U));
+  PetscCall(PetscObjectSetName((PetscObject)*U, "deformable state"));
+  PetscCall(VecGetOwnershipRange(*U, &start, nullptr));
+  PetscCall(VecGetArray(*U, &u));
+  PetscCall(VecGetArrayRead(d->x, &xa));
+  PetscCall(VecGetArrayRead(d->v, &va));
+  for (PetscInt i = 0; i < n; ++i) {
+    u[i]     = xa[i];
+    u[n + i] = d->fixed[i / 3] ? 0 : va[i];
+  }
+  PetscCall(VecRestoreArrayRead(d->v, &va));
+  PetscCall(VecRestoreArrayRead(d->x, &xa));
+  PetscCall(VecRestoreArray(*U, &u));
+  PetscCall(ISCreateStride(d->comm, n, start, 1, &isq));
+  PetscCall(ISCreateStride(d->comm, n, start + n, 1, &isp));
+  PetscCall(TSSetProblemType(ts, TS_NONLINEAR));
+  PetscCall(TSRHSSplitSetIS(ts, "position", isq));
+  PetscCall(TSRHSSplitSetIS(ts, "momentum", isp));
+  PetscCall(ISDestroy(&isq));
+  PetscCall(ISDestroy(&isp));
+  PetscCall(TSRHSSplitSetRHSFunction(ts, "position", nullptr, RHSPosition, d));
+  PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, d));
+  PetscCall(TSSetSolution(ts, *U));
+  d->ts = ts;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableRestoreState(FDEMDeformable d, Vec U) {
+  const PetscScalar *u;
+  PetscScalar       *xa, *va;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableRestoreState"));
+  const PetscInt n = 3 * d->nown;
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArray(d->x, &xa));
+  PetscCall(VecGetArray(d->v, &va));
+  for (PetscInt i = 0; i < n; ++i) {
+    xa[i] = u[i];
+    va[i] = u[n + i];
+  }
+  PetscCall(VecRestoreArray(d->v, &va));
+  PetscCall(VecRestoreArray(d->x, &xa));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscFunctionReturn(0);
+}
+

@@ -1,0 +1,131 @@
+// Internal: the deformable-body object shared by src/model/deformable*.cpp,
+// one file per job:
+//   deformable.cpp             the object: create/destroy, materials, options, accessors, fixed nodes
+//   deformable_mesh_input.cpp  mesh setters and the validation of mesh + materials (rank 0)
+//   deformable_partition.cpp   METIS partition, DMPlex distribution, the local layout (FDEMDeformableSetUp)
+//   deformable_assembly.cpp    internal + external forces, a = f/m + g, the TS right-hand sides
+//   deformable_diagnostics.cpp stress, energy, momentum, node state, smallest det F
+//   deformable_output.cpp      HDF5 + XDMF output
+// Other layers use src/model/deformable_impl.hpp, never this file.
+//
+// Layout after FDEMDeformableSetUp, on each rank:
+//  - dm: the distributed, uninterpolated DMPlex (cells and vertices), local
+//    section 3 dofs per vertex. Local vectors hold every vertex of the rank's
+//    cells ("local nodes", index l = local offset / 3), global vectors the
+//    owned ones (index k = (global offset - rstart) / 3).
+//  - ed: the kernel's ElementData over the local cells, node indices = local
+//    nodes, cells sorted by material (long runs for the batched kernel).
+//  - cell_gid / node_gid: global (input) ids of local cells and nodes, carried
+//    through the distribution by broadcasting over the migration SF.
+#pragma once
+#include <fdem/deformable.h>
+#include <fdem/kernels/cst.hpp>
+#include <fdem/kernels/tetmesh.hpp>
+
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace fdem::model::deformable {
+enum PartitionType { kPartMetis = 0, kPartSimple = 1 };
+extern const char *const PartitionTypes[]; // deformable_partition.cpp
+
+struct OutputRecord {
+  PetscInt  step;
+  PetscReal t;
+  PetscInt  nvert, ncell;
+};
+} // namespace fdem::model::deformable
+
+struct _n_FDEMDeformable {
+  MPI_Comm    comm;
+  PetscMPIInt rank = 0, size = 1;
+  // input (mesh on rank 0 only)
+  std::vector<fdem::kernels::Material> materials;
+  std::map<std::string, std::string>   body_material;
+  fdem::kernels::TetMesh               mesh;
+  bool                                 has_mesh = false;
+  PetscReal                            g[3] = {0, 0, 0};
+  FDEMDeformableForceFn                ext = nullptr;
+  void                                *ext_ctx = nullptr;
+  PetscInt                             partition = fdem::model::deformable::kPartMetis;
+  PetscBool                            view = PETSC_FALSE;
+  // after set-up (all ranks)
+  bool                       setup = false;
+  std::vector<std::string>   body_names;
+  std::vector<int>           material_of_body;
+  DM                         dm = nullptr;
+  PetscInt                   ncells_global = 0, nnodes_global = 0, nlocal = 0, nown = 0;
+  fdem::kernels::ElementData ed;
+  std::vector<PetscInt>      cell_gid, node_gid, owned_gid, owned_local, node_global; // node_global: global vertex number per local node
+  std::unordered_map<PetscInt, PetscInt> owned_of_gid;
+  std::vector<char>          fixed; // per owned node
+  bool                       viscous = false;
+  Vec                        x = nullptr, v = nullptr, X = nullptr, m = nullptr, minv = nullptr;
+  Vec                        xloc = nullptr, vloc = nullptr, floc = nullptr, gwork = nullptr;
+  TS                         ts = nullptr; // the TS of FDEMDeformableSetUpTS (not referenced)
+  std::vector<fdem::model::deformable::OutputRecord> outputs;
+};
+
+namespace fdem::model::deformable {
+
+// "fn: call FDEMDeformableSetUp() first" / "...: the mesh is already set up" (deformable.cpp).
+PetscErrorCode CheckSetUp(FDEMDeformable d, const char *fn);
+PetscErrorCode CheckNotSetUp(FDEMDeformable d, const char *fn);
+
+// Rank 0, before the partition: resolves the material of every body and checks
+// the mesh (node indices, positive volumes). Throws InputError with what is
+// wrong (deformable_mesh_input.cpp).
+void ValidateInput(FDEMDeformable d, std::vector<int> &material_of_body);
+
+// Assembled nodal force f (owned layout) from owned positions xo and
+// velocities vo (may be null): internal forces of the local cells plus the
+// external-force hook; collective inversion check (deformable_assembly.cpp).
+PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *fo);
+
+// det F of element el at local positions x.
+inline double ElementJ(const fdem::kernels::TetElement &el, const double *x) {
+  using fdem::kernels::Mat3;
+  using fdem::kernels::Vec3;
+  const Vec3 x0(x[3 * el.n[0]], x[3 * el.n[0] + 1], x[3 * el.n[0] + 2]);
+  Vec3       e[3];
+  for (int a = 1; a < 4; ++a) e[a - 1] = Vec3(x[3 * el.n[a]], x[3 * el.n[a] + 1], x[3 * el.n[a] + 2]) - x0;
+  return det(Mat3::columns(e[0], e[1], e[2])) * el.inv6V0;
+}
+
+// Owned x and v arrays of a state U [x | v] from FDEMDeformableSetUpTS (or of
+// the stored vectors when U is null).
+struct StateView {
+  FDEMDeformable     d = nullptr;
+  Vec                U = nullptr;
+  const PetscScalar *u = nullptr, *xa = nullptr, *va = nullptr;
+  PetscErrorCode Get(FDEMDeformable dd, Vec UU) {
+    d = dd;
+    U = UU;
+    PetscFunctionBegin;
+    if (U) {
+      PetscInt n;
+      PetscCall(VecGetLocalSize(U, &n));
+      PetscCheck(n == 6 * d->nown, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "FDEMDeformable: the state vector has %" PetscInt_FMT " local entries, expected 6 x %" PetscInt_FMT " owned nodes (a vector from FDEMDeformableSetUpTS)", n, d->nown);
+      PetscCall(VecGetArrayRead(U, &u));
+      xa = u;
+      va = u + 3 * d->nown;
+    } else {
+      PetscCall(VecGetArrayRead(d->x, &xa));
+      PetscCall(VecGetArrayRead(d->v, &va));
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode Restore() {
+    PetscFunctionBegin;
+    if (U) PetscCall(VecRestoreArrayRead(U, &u));
+    else {
+      PetscCall(VecRestoreArrayRead(d->x, &xa));
+      PetscCall(VecRestoreArrayRead(d->v, &va));
+    }
+    PetscFunctionReturn(0);
+  }
+};
+
+} // namespace fdem::model::deformable
