@@ -167,7 +167,7 @@ PetscErrorCode RunExample(int *status) {
   PetscCall(TSGetType(ts, &type));
   PetscCall(TSGetTime(ts, &tf));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d steps of %g (%s) to t = %g, %.2f s\n", (int)steps, (double)dt, type, (double)tf, w1 - w0));
-  PetscCheck(std::isfinite(t1) && std::isfinite(t2) && t2 > t1, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "bar_wave: the pulse peak was not seen at both stations by t = %g (peak times %g, %g): run longer (-ts_max_time) or move the stations (-fdem_station1, -fdem_station2)", (double)tf, t1, t2);
+  PetscCheck(std::isfinite(t1) && std::isfinite(t2) && t2 > t1, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "bar_wave: the pulse peak was not seen at both stations by t = %g (peak times %g, %g): run longer (-ts_max_time, -ts_max_steps) or move the stations (-fdem_station1, -fdem_station2)", (double)tf, t1, t2);
   const double speed = (xs[1] - xs[0]) / (t2 - t1), err = (speed - c_bar) / c_bar;
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "peak at x1 = %g: t = %.6g, at x2 = %g: t = %.6g\n", xs[0], t1, xs[1], t2));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "measured wave speed %.6g, sqrt(E/rho) = %.6g (P-wave speed %.6g): error %+.3f%%\n", speed, c_bar, cp, 100 * err));
