@@ -6,13 +6,18 @@
 //   - the pebbles bounce back (mean final vz > 0.3 m/s) and none still moves
 //     into the slab (vz > -0.05; one that hits on a corner may turn its fall into spin);
 //   - no tunnelling: no pebble's skin node ever goes deeper below the slab's
-//     top than -max_depth (default 20% of the slab's element height);
-//   - with -free: total linear momentum conserved to 1e-12 relative.
-// Options: -npebbles 3 -T 0.03 -dt 2.5e-5 -ts_type cd|pefrl|... -output base -output_every 20
-//          -fdem_scene_contact_penalty (default 5e8) -fdem_scene_contact_damping/_friction
+//     top than -fdem_max_depth (default 20% of the slab's element height);
+//   - with -fdem_free: total linear momentum conserved to 1e-12 relative.
+// Options (doc/examples.md): -fdem_bodies 3 (pebbles) -ts_max_time 0.03 -ts_dt 2.5e-5
+//   -ts_type cd|pefrl|... -fdem_free -fdem_max_depth -fdem_output DIR (default
+//   out/block_impact: pebbles.h5/.xmf, slab.h5/.xmf; none: no files) -fdem_output_every 20
+//   (steps between outputs and between the checks' samples)
+//   -fdem_scene_contact_penalty (default 5e8) -fdem_scene_contact_damping/_friction
 #include <fdem.h>
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>
+
+#include "../common/options.hpp"
 
 #include <cmath>
 #include <random>
@@ -20,22 +25,26 @@
 
 using fdem::kernels::Vec3;
 
-int main(int argc, char **argv) {
-  PetscInt    npeb = 3, every = 20;
-  PetscReal   T = 0.03, dt = 2.5e-5, max_depth = -1;
-  PetscBool   free_block = PETSC_FALSE, out = PETSC_FALSE;
-  char        base[PETSC_MAX_PATH_LEN] = "block_impact";
+PetscErrorCode RunExample(int *status) {
+  namespace ex = fdem::examples;
+  PetscInt    npeb = 3;
+  PetscReal   max_depth = -1;
+  PetscBool   free_block = PETSC_FALSE, has_depth;
+  ex::Output  out{"out/block_impact", 20};
   PetscMPIInt size;
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscFunctionBeginUser;
   PetscCall(FDEMInitializePackage());
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-npebbles", &npeb, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-T", &T, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-dt", &dt, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-max_depth", &max_depth, nullptr));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-free", &free_block, nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-output", base, sizeof(base), &out));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-output_every", &every, nullptr));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Block impact; time steps: -ts_dt (2.5e-5), -ts_max_time (0.03), -ts_type (cd)", "");
+  PetscCall(PetscOptionsInt("-fdem_bodies", "number of pebbles", "", npeb, &npeb, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_free", "free slab (default: fixed at its base); checks momentum conservation", "", free_block, &free_block, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_max_depth", "fail if a pebble point goes deeper below the slab top (default 20% of the element height)", "", max_depth, &max_depth, &has_depth));
+  FDEM_EXAMPLE_OUTPUT_OPTIONS(out, " (HDF5 + XDMF) and between the checks' samples");
+  PetscOptionsEnd();
+  PetscCall(ex::CheckInt("-fdem_bodies", npeb, 1, 1000));
+  if (has_depth) PetscCall(ex::CheckPositive("-fdem_max_depth", max_depth));
+  PetscCall(ex::SetUpOutput(out));
+  const PetscInt every = out.every;
 
   // the slab [0,1] x [0,1] x [0,0.2], 8 x 8 x 2 Kuhn cells
   const PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 0.2}, top = hi[2];
@@ -95,26 +104,26 @@ int main(int argc, char **argv) {
   PetscCall(FDEMSceneSetFromOptions(sc));
   TS  ts;
   Vec Us;
+  PetscReal T, dt;
+  PetscInt  max_steps;
   PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
-  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(ex::SetTimeDefaults(ts, TSFDEMCD, 2.5e-5, 0.03));
   PetscCall(FDEMSceneSetUpTS(sc, ts, &Us));
-  PetscCall(TSSetTimeStep(ts, dt));
-  PetscCall(TSSetMaxTime(ts, 1e9));
-  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSSetFromOptions(ts));
-  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(ex::GetTimeSettings(ts, &dt, &T, &max_steps));
+  PetscCheck(T / dt <= 1e9, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Options -ts_max_time %g / -ts_dt %g: %g steps is more than 1e9", (double)T, (double)dt, (double)(T / dt));
+  // the loop below counts steps, round(T / dt) of them, and moves the TS's step limit itself
+  PetscCall(TSSetMaxTime(ts, 1e9));
   TSType type;
   PetscCall(TSGetType(ts, &type));
-  char rbase[PETSC_MAX_PATH_LEN], mbase[PETSC_MAX_PATH_LEN];
-  PetscCall(PetscSNPrintf(rbase, sizeof(rbase), "%s_np%d_pebbles", base, size));
-  PetscCall(PetscSNPrintf(mbase, sizeof(mbase), "%s_np%d_slab", base, size));
+  const std::string rbase = out.path("pebbles"), mbase = out.path("slab");
 
   PetscReal P0[3], L[3], E[4], E0;
   PetscCall(FDEMSceneGetInvariants(sc, Us, 0, P0, L, E));
   E0 = E[0] + E[1] + E[2];
   PetscReal      depth = 0, peakE = 0;
   PetscInt       maxact = 0;
-  const PetscInt nsteps = (PetscInt)std::lround(T / dt);
+  const PetscInt nsteps = std::min((PetscInt)std::lround(T / dt), max_steps);
   int            fails  = 0;
   for (PetscInt s = 0; s <= nsteps; s += every) {
     if (s > 0) {
@@ -124,9 +133,9 @@ int main(int argc, char **argv) {
     PetscReal t;
     PetscCall(TSGetTime(ts, &t));
     PetscCall(FDEMSceneRestoreState(sc, Us));
-    if (out) {
-      PetscCall(FDEMRigidWriteHDF5(rb, rbase, s / every, t));
-      PetscCall(FDEMDeformableWriteHDF5(d, nullptr, mbase, s / every, t));
+    if (out.on()) {
+      PetscCall(FDEMRigidWriteHDF5(rb, rbase.c_str(), s / every, t));
+      PetscCall(FDEMDeformableWriteHDF5(d, nullptr, mbase.c_str(), s / every, t));
     }
     FDEMSceneContactStats cst;
     PetscCall(FDEMSceneGetContactStats(sc, &cst));
@@ -146,10 +155,14 @@ int main(int argc, char **argv) {
     if (s == nsteps) break;
   }
   PetscReal P1[3];
+  PetscReal tend;
+  PetscInt  steps;
+  PetscCall(TSGetTime(ts, &tend));
+  PetscCall(TSGetStepNumber(ts, &steps));
   PetscCall(FDEMSceneGetInvariants(sc, Us, T, P1, L, E));
   const PetscReal E1 = E[0] + E[1] + E[2] + E[3];
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "block_impact (%s, %d ranks, %" PetscInt_FMT " pebbles, %s slab, %" PetscInt_FMT " fixed nodes): T = %g, dt = %g, peak contact energy %.3e J, max active pairs %" PetscInt_FMT "\n", type, size, npeb,
-                        free_block ? "free" : "base-fixed", nfixed, (double)T, (double)dt, (double)peakE, maxact));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "block_impact (%s, %d ranks, %" PetscInt_FMT " pebbles, %s slab, %" PetscInt_FMT " fixed nodes): %" PetscInt_FMT " steps of %g to t = %g, peak contact energy %.3e J, max active pairs %" PetscInt_FMT "\n", type, size, npeb,
+                        free_block ? "free" : "base-fixed", nfixed, steps, (double)dt, (double)tend, (double)peakE, maxact));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  energy %.6e -> %.6e J (rel change %.2e; undamped: the contact model's small loss)\n", (double)E0, (double)E1, (double)((E1 - E0) / E0)));
   // checks
   PetscInt n;
@@ -188,12 +201,14 @@ int main(int argc, char **argv) {
       PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: momentum drifts by %g\n", (double)(dP / P0n)));
     }
   }
-  if (out) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  wrote %s.h5/.xmf and %s.h5/.xmf\n", rbase, mbase));
+  if (out.on()) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  wrote %s.h5/.xmf and %s.h5/.xmf\n", rbase.c_str(), mbase.c_str()));
   PetscCall(VecDestroy(&Us));
   PetscCall(TSDestroy(&ts));
   PetscCall(FDEMSceneDestroy(&sc));
   PetscCall(FDEMRigidDestroy(&rb));
   PetscCall(FDEMDeformableDestroy(&d));
-  PetscCall(PetscFinalize());
-  return fails ? 1 : 0;
+  *status = fails ? 1 : 0;
+  PetscFunctionReturn(0);
 }
+
+int main(int argc, char **argv) { return fdem::examples::Main(argc, argv, RunExample); }

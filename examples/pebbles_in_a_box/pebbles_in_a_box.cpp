@@ -10,34 +10,37 @@
 //     below their top, its lowest vertex above the floor less the allowed
 //     penetration;
 //   - no tunnelling: the deepest vertex of any body inside any other
-//     (convex) body is below -expect_penetration times the pebble's
+//     (convex) body is below -fdem_expect_penetration times the pebble's
 //     equivalent diameter (6V/pi)^(1/3) (measured vertex-into-polytope, so
 //     edge-edge overlaps are not seen);
-//   - at rest: the kinetic energy at the end is below -expect_ke times the
+//   - at rest: the kinetic energy at the end is below -fdem_expect_ke times the
 //     potential energy released, sum m g (z0 - z);
-//   - -compare FILE: the final state written by another run (-final_state,
+//   - -fdem_compare FILE: the final state written by another run (final_state.csv,
 //     e.g. with another number of ranks) gives the same pile: mean pebble
-//     height within -compare_tol pebble diameters, and every pebble within
-//     -compare_pebble_tol diameters of its place in the other run (default
+//     height within -fdem_compare_tol pebble diameters, and every pebble within
+//     -fdem_compare_pebble_tol diameters of its place in the other run (default
 //     off: the rounding differences of the force sums, which differ between
 //     rank counts, may grow in chaotic tumbling; for the CTest scene, 8
 //     pebbles, 1 vs 2 ranks agree to 1.6e-13 diameters and the test asserts 1e-8).
 //
-// Options: -n_pebbles, -seed, -pebble_size (mean long semi-axis), -box_x,
-// -box_y, -t_final, -dt, -write_every (output and migration every k steps),
-// -output BASE (HDF5 + XDMF), -energy_csv FILE (CSV: t, kinetic energy,
-// potential energy released, mean/max pebble height, max speed),
-// -final_state FILE, -compare FILE, and the contact options
-// -fdem_contact_penalty/damping/friction/tangential_viscosity/buffer
-// (defaults below), -fdem_rigid_rotation, -ts_type.
+// Options (doc/examples.md): -fdem_bodies (pebbles), -fdem_seed, -fdem_pebble_size
+// (mean long semi-axis), -fdem_box_x, -fdem_box_y, -fdem_density, -fdem_drop,
+// -ts_max_time, -ts_dt, -ts_type, -fdem_output_every (output, monitor and
+// migration every k steps), -fdem_output DIR (default out/pebbles_in_a_box:
+// pebbles.h5 + .xmf, energy.csv with t, kinetic energy, potential energy
+// released, mean/max pebble height, max speed, and final_state.csv), -fdem_compare FILE,
+// and the contact options -fdem_contact_penalty/damping/friction/tangential_viscosity/buffer
+// (defaults below), -fdem_rigid_rotation.
 //
-// Run: mpiexec -n 2 ./pebbles_in_a_box -n_pebbles 60 -output out/pebbles
-// then open out/pebbles.xmf in ParaView (examples/pebbles_in_a_box/run.sh).
+// Run: mpiexec -n 2 ./pebbles_in_a_box -fdem_bodies 60 -fdem_output out/pebbles
+// then open out/pebbles/pebbles.xmf in ParaView (examples/pebbles_in_a_box/run.sh).
 #include <fdem.h>
 #include <fdem/contact.h>
 #include <fdem/rigid.h>
 #include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/rotation.hpp>
+
+#include "../common/options.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -66,7 +69,7 @@ struct Ctx {
   std::vector<Body> bodies;
   PetscInt          first_pebble = 0, npebbles = 0, write_every = 50;
   PetscReal         g = 9.81, t_final = 0, pebble_size = 0;
-  char              output[PETSC_MAX_PATH_LEN] = "";
+  std::string       output; // DIR/pebbles, or empty: no HDF5
   std::vector<std::array<double, 6>> history; // t, KE, PE released, mean z, max z, max speed
   PetscInt          writes = 0;
   FDEMContact       contact = nullptr;
@@ -163,8 +166,8 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt step, PetscReal t, void *ptr) {
     PetscCall(PetscSynchronizedFlush(PETSC_COMM_WORLD, PETSC_STDOUT));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n"));
   }
-  if (c.output[0]) {
-    PetscCall(FDEMRigidWriteHDF5(rb, c.output, step, t));
+  if (!c.output.empty()) {
+    PetscCall(FDEMRigidWriteHDF5(rb, c.output.c_str(), step, t));
     c.writes++;
   }
   PetscFunctionReturn(0);
@@ -172,40 +175,60 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt step, PetscReal t, void *ptr) {
 
 } // namespace
 
-int main(int argc, char **argv) {
+PetscErrorCode RunExample(int *status) {
+  PetscFunctionBeginUser;
+  namespace ex = fdem::examples;
   Ctx         c;
   PetscInt    n = 60, seed = 5;
   PetscReal   dt = 4e-4, size = 0.08, box_x = 1.5, box_y = 0.7, density = 2600, drop = 0.05;
   PetscReal   expect_pen = 0.05, expect_ke = 1e-3, compare_tol = 0.25, compare_pebble_tol = 1e30;
-  char        history[PETSC_MAX_PATH_LEN] = "", final_state[PETSC_MAX_PATH_LEN] = "", compare[PETSC_MAX_PATH_LEN] = "", ts_type[64] = "cd";
+  char        compare[PETSC_MAX_PATH_LEN] = "", ts_type[64] = "cd";
+  ex::Output  out{"out/pebbles_in_a_box", 50};
   PetscMPIInt rank, nranks;
   c.t_final = 3.0;
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   PetscCall(FDEMInitializePackage());
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &nranks));
-  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Pebbles in a box", "");
-  PetscCall(PetscOptionsInt("-n_pebbles", "number of pebbles", "", n, &n, nullptr));
-  PetscCall(PetscOptionsInt("-seed", "random seed (shapes, sizes, orientations)", "", seed, &seed, nullptr));
-  PetscCall(PetscOptionsReal("-pebble_size", "mean long semi-axis of the pebbles (m)", "", size, &size, nullptr));
-  PetscCall(PetscOptionsReal("-box_x", "inner length of the box (m)", "", box_x, &box_x, nullptr));
-  PetscCall(PetscOptionsReal("-box_y", "inner width of the box (m)", "", box_y, &box_y, nullptr));
-  PetscCall(PetscOptionsReal("-density", "pebble density (kg/m^3)", "", density, &density, nullptr));
-  PetscCall(PetscOptionsReal("-drop", "gap below the lowest layer of pebbles at the start (m)", "", drop, &drop, nullptr));
-  PetscCall(PetscOptionsReal("-t_final", "final time (s)", "", c.t_final, &c.t_final, nullptr));
-  PetscCall(PetscOptionsReal("-dt", "time step (s)", "", dt, &dt, nullptr));
-  PetscCall(PetscOptionsInt("-write_every", "output, monitor and migration every k steps", "", c.write_every, &c.write_every, nullptr));
-  PetscCall(PetscOptionsString("-output", "file base for HDF5 + XDMF output (none: no output)", "", c.output, c.output, sizeof(c.output), nullptr));
-  PetscCall(PetscOptionsString("-energy_csv", "CSV file of energies and heights against time", "", history, history, sizeof(history), nullptr));
-  PetscCall(PetscOptionsString("-final_state", "CSV file of the final pebble states", "", final_state, final_state, sizeof(final_state), nullptr));
-  PetscCall(PetscOptionsString("-compare", "compare with the final state of another run (CSV from -final_state)", "", compare, compare, sizeof(compare), nullptr));
-  PetscCall(PetscOptionsReal("-expect_penetration", "bound on the deepest vertex penetration / pebble diameter", "", expect_pen, &expect_pen, nullptr));
-  PetscCall(PetscOptionsReal("-expect_ke", "bound on the final kinetic energy / potential energy released", "", expect_ke, &expect_ke, nullptr));
-  PetscCall(PetscOptionsReal("-compare_tol", "bound on the difference of the mean pebble height, in pebble diameters", "", compare_tol, &compare_tol, nullptr));
-  PetscCall(PetscOptionsReal("-compare_pebble_tol", "bound on any pebble's distance from its place in the -compare run, in pebble diameters", "", compare_pebble_tol, &compare_pebble_tol, nullptr));
-  PetscCall(PetscOptionsString("-ts_type", "TS type (for the time-step check)", "", ts_type, ts_type, sizeof(ts_type), nullptr));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Pebbles in a box; time steps: -ts_dt (4e-4), -ts_max_time (3), -ts_type (cd)", "");
+  PetscCall(PetscOptionsInt("-fdem_bodies", "number of pebbles", "", n, &n, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_seed", "random seed (shapes, sizes, orientations)", "", seed, &seed, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_pebble_size", "mean long semi-axis of the pebbles (m)", "", size, &size, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_box_x", "inner length of the box (m)", "", box_x, &box_x, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_box_y", "inner width of the box (m)", "", box_y, &box_y, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_density", "pebble density (kg/m^3)", "", density, &density, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_drop", "gap below the lowest layer of pebbles at the start (m)", "", drop, &drop, nullptr));
+  FDEM_EXAMPLE_OUTPUT_OPTIONS(out, " (HDF5 + XDMF, energy.csv), monitor lines and migrations");
+  PetscCall(PetscOptionsString("-fdem_compare", "compare with the final state of another run (its final_state.csv)", "", compare, compare, sizeof(compare), nullptr));
+  PetscCall(PetscOptionsReal("-fdem_expect_penetration", "bound on the deepest vertex penetration / pebble diameter", "", expect_pen, &expect_pen, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_expect_ke", "bound on the final kinetic energy / potential energy released", "", expect_ke, &expect_ke, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_compare_tol", "bound on the difference of the mean pebble height, in pebble diameters", "", compare_tol, &compare_tol, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_compare_pebble_tol", "bound on any pebble's distance from its place in the -fdem_compare run, in pebble diameters", "", compare_pebble_tol, &compare_pebble_tol, nullptr));
   PetscOptionsEnd();
-  PetscCheck(n > 0 && size > 0 && box_x > 4 * size && box_y > 4 * size, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "need n_pebbles > 0 and a box more than 4 pebble sizes wide");
+  PetscCall(ex::CheckInt("-fdem_bodies", n, 1, 100000));
+  PetscCall(ex::CheckInt("-fdem_seed", seed, 0, PETSC_MAX_INT));
+  PetscCall(ex::CheckPositive("-fdem_pebble_size", size));
+  PetscCall(ex::CheckReal("-fdem_box_x", box_x, 4 * size, true, std::numeric_limits<PetscReal>::infinity(), true)); // more than 4 pebble sizes
+  PetscCall(ex::CheckReal("-fdem_box_y", box_y, 4 * size, true, std::numeric_limits<PetscReal>::infinity(), true));
+  PetscCall(ex::CheckPositive("-fdem_density", density));
+  PetscCall(ex::CheckNonNegative("-fdem_drop", drop));
+  PetscCall(ex::CheckPositive("-fdem_expect_penetration", expect_pen));
+  PetscCall(ex::CheckPositive("-fdem_expect_ke", expect_ke));
+  PetscCall(ex::CheckPositive("-fdem_compare_tol", compare_tol));
+  PetscCall(ex::CheckPositive("-fdem_compare_pebble_tol", compare_pebble_tol));
+  if (compare[0]) { // before the run, not after it
+    int readable = 0;
+    if (rank == 0) {
+      FILE *fp = std::fopen(compare, "r");
+      readable = fp != nullptr;
+      if (fp) std::fclose(fp);
+    }
+    PetscCallMPI(MPI_Bcast(&readable, 1, MPI_INT, 0, PETSC_COMM_WORLD));
+    PetscCheck(readable, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN, "Option -fdem_compare %s: cannot open this file", compare);
+  }
+  PetscCall(ex::SetUpOutput(out));
+  PetscCall(ex::PeekTimeOptions(ts_type, sizeof(ts_type), &dt, &c.t_final)); // for the time-step check and the monitor
+  c.write_every = out.every;
+  c.output      = out.path("pebbles");
   c.npebbles    = n;
   c.pebble_size = size;
 
@@ -305,6 +328,12 @@ int main(int argc, char **argv) {
   PetscCall(FDEMRigidSolve(rb, 0.0, c.t_final, dt, c.write_every, Monitor, &c));
   PetscLogDouble wall1;
   PetscCall(PetscTime(&wall1));
+  {
+    PetscReal tf;
+    PetscInt  steps;
+    PetscCall(FDEMRigidGetTime(rb, &tf, &steps));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " steps of %g to t = %g\n", steps, (double)dt, (double)tf));
+  }
 
   // ---- checks
   int       failures = 0;
@@ -389,16 +418,17 @@ int main(int argc, char **argv) {
   }
   double mean_z = 0;
   for (PetscInt i = c.first_pebble; i < (PetscInt)c.bodies.size(); ++i) mean_z += a.s[i].x[2] / n;
-  if (rank == 0 && history[0]) {
-    FILE *fp = std::fopen(history, "w");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot open %s", history);
+  const std::string history = out.path("energy.csv"), final_state = out.path("final_state.csv");
+  if (rank == 0 && out.on()) {
+    FILE *fp = std::fopen(history.c_str(), "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot open %s", history.c_str());
     std::fprintf(fp, "t,kinetic_energy,potential_energy_released,mean_height,max_height,max_speed\n");
     for (const auto &h : c.history) std::fprintf(fp, "%.6f,%.10e,%.10e,%.8f,%.8f,%.6e\n", h[0], h[1], h[2], h[3], h[4], h[5]);
     std::fclose(fp);
   }
-  if (rank == 0 && final_state[0]) {
-    FILE *fp = std::fopen(final_state, "w");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot open %s", final_state);
+  if (rank == 0 && out.on()) {
+    FILE *fp = std::fopen(final_state.c_str(), "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot open %s", final_state.c_str());
     std::fprintf(fp, "id,x,y,z,vx,vy,vz\n");
     for (PetscInt i = c.first_pebble; i < (PetscInt)c.bodies.size(); ++i)
       std::fprintf(fp, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", (int)i, a.s[i].x[0], a.s[i].x[1], a.s[i].x[2], a.s[i].v[0], a.s[i].v[1], a.s[i].v[2]);
@@ -407,23 +437,23 @@ int main(int argc, char **argv) {
   if (compare[0]) {
     // every rank reads the file (small)
     FILE *fp = std::fopen(compare, "r");
-    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "-compare: cannot open %s", compare);
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "-fdem_compare: cannot open %s", compare);
     char   line[512];
     double other_mean = 0, dmaxp = 0;
     int    count = 0;
-    PetscCheck(std::fgets(line, sizeof(line), fp), PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "-compare: empty file %s", compare);
+    PetscCheck(std::fgets(line, sizeof(line), fp), PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "-fdem_compare: empty file %s", compare);
     while (std::fgets(line, sizeof(line), fp)) {
       int    id;
       double x, y, z, vx, vy, vz;
       if (std::sscanf(line, "%d,%lf,%lf,%lf,%lf,%lf,%lf", &id, &x, &y, &z, &vx, &vy, &vz) != 7) continue;
-      PetscCheck(id >= c.first_pebble && id < (int)c.bodies.size(), PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "-compare: %s has pebble id %d, this scene has %d..%d", compare, id, (int)c.first_pebble,
+      PetscCheck(id >= c.first_pebble && id < (int)c.bodies.size(), PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "-fdem_compare: %s has pebble id %d, this scene has %d..%d", compare, id, (int)c.first_pebble,
                  (int)c.bodies.size() - 1);
       other_mean += z;
       count++;
       dmaxp = std::max(dmaxp, std::sqrt(PetscSqr(x - a.s[id].x[0]) + PetscSqr(y - a.s[id].x[1]) + PetscSqr(z - a.s[id].x[2])));
     }
     std::fclose(fp);
-    PetscCheck(count == n, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "-compare: %s holds %d pebbles, this run has %d", compare, count, (int)n);
+    PetscCheck(count == n, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "-fdem_compare: %s holds %d pebbles, this run has %d", compare, count, (int)n);
     other_mean /= count;
     const double diff = std::fabs(other_mean - mean_z) / dmean;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "compare with %s: mean pebble height %.5f vs %.5f (difference %.3e pebble diameters, bound %.2g); largest single-pebble distance %.3e m = %.3e diameters\n", compare,
@@ -437,10 +467,12 @@ int main(int argc, char **argv) {
       PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: a pebble ended %.3e diameters from its place in %s (bound %.2g)\n", dmaxp / dmean, compare, (double)compare_pebble_tol));
     }
   }
-  if (c.output[0]) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "wrote %d steps to %s.h5 and %s.xmf (open the .xmf in ParaView)\n", (int)c.writes, c.output, c.output));
+  if (out.on()) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "wrote %d steps to %s.h5 and %s.xmf (open the .xmf in ParaView), %s, %s\n", (int)c.writes, c.output.c_str(), c.output.c_str(), history.c_str(), final_state.c_str()));
   PetscCall(FDEMContactDestroy(&contact));
   PetscCall(FDEMRigidDestroy(&rb));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d failures\n", failures));
-  PetscCall(PetscFinalize());
-  return failures ? 1 : 0;
+  *status = failures ? 1 : 0;
+  PetscFunctionReturn(0);
 }
+
+int main(int argc, char **argv) { return fdem::examples::Main(argc, argv, RunExample); }

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Chart of a pebbles_in_a_box run from its -energy_csv file.
+"""Chart of a pebbles_in_a_box run from its energy.csv (in the -fdem_output folder).
 
 usage: plot_pebbles.py HISTORY.csv OUT.png [TITLE]
 

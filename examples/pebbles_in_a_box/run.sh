@@ -4,7 +4,7 @@
 # chart of heights and energies against time.
 #   examples/pebbles_in_a_box/run.sh [OUT_DIR]     (default ./pebbles_output)
 # Environment: BUILD_DIR (default /tmp/build-fdem), NP (2), ARGS (more options,
-# e.g. ARGS="-n_pebbles 100 -t_final 4").
+# e.g. ARGS="-fdem_bodies 100 -ts_max_time 4").
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 OUT=$(mkdir -p "${1:-pebbles_output}" && cd "${1:-pebbles_output}" && pwd)
@@ -16,12 +16,12 @@ if [ ! -x "$EXE" ] || [ "$ROOT/examples/pebbles_in_a_box/pebbles_in_a_box.cpp" -
   cmake --build "$BUILD_DIR" -j2 --target pebbles_in_a_box
 fi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-rm -f "$OUT/pebbles.h5" "$OUT/pebbles.xmf"
+rm -f "$OUT/pebbles.h5" "$OUT/pebbles.xmf" "$OUT/energy.csv" "$OUT/final_state.csv"
 # 60 pebbles in a 1.5 x 0.7 box, 3 s (7500 steps of 4e-4), written every 100 steps
 # shellcheck disable=SC2086
-mpiexec --oversubscribe -n "$NP" "$EXE" -n_pebbles 60 -t_final 3 -write_every 100 -output "$OUT/pebbles" \
-  -energy_csv "$OUT/pebbles_energy.csv" -final_state "$OUT/pebbles_final.csv" ${ARGS:-} | tee "$OUT/pebbles.log"
-/usr/bin/python3 "$ROOT/examples/pebbles_in_a_box/plot_pebbles.py" "$OUT/pebbles_energy.csv" "$OUT/pebbles_in_a_box.png" \
+mpiexec --oversubscribe -n "$NP" "$EXE" -fdem_bodies 60 -ts_max_time 3 -fdem_output_every 100 -fdem_output "$OUT" \
+  ${ARGS:-} | tee "$OUT/pebbles.log"
+/usr/bin/python3 "$ROOT/examples/pebbles_in_a_box/plot_pebbles.py" "$OUT/energy.csv" "$OUT/pebbles_in_a_box.png" \
   "pebbles in a box: 60 pebbles, mpiexec -n $NP"
 nsteps=$(grep -c "<Grid Name=\"step" "$OUT/pebbles.xmf" || true)
 nbodies=$(grep -m1 -o "^[0-9]* pebbles" "$OUT/pebbles.log" | cut -d' ' -f1)

@@ -10,7 +10,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 rm -f "$out/pebbles.h5" "$out/pebbles.xmf"
 # 6 pebbles + 5 box parts; 250 steps of 4e-4 written every 50: 6 outputs. The run
-# is too short to come to rest: the rest check is switched off (-expect_ke 1e30).
-"$@" -n "$np" "$exe" -n_pebbles 6 -t_final 0.1 -box_x 0.7 -box_y 0.45 -write_every 50 -expect_ke 1e30 -output "$out/pebbles"
+# is too short to come to rest: the rest check is switched off (-fdem_expect_ke 1e30).
+"$@" -n "$np" "$exe" -fdem_bodies 6 -ts_max_time 0.1 -fdem_box_x 0.7 -fdem_box_y 0.45 -fdem_output_every 50 -fdem_expect_ke 1e30 -fdem_output "$out"
 /usr/bin/python3 "$here/../tumbling/check_output.py" "$out/pebbles" 6 11
 echo "open $out/pebbles.xmf in ParaView"

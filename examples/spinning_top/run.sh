@@ -13,7 +13,7 @@ exe=$build/examples/spinning_top/spinning_top
 mkdir -p "$out"
 for rot in munjiza nosquish exact; do
   for h in 0.0005 0.001 0.005; do
-    "$exe" -dt $h -fdem_rigid_rotation $rot -csv "$out/spinning_top_${rot}_h$h.csv"
+    "$exe" -ts_dt $h -fdem_rigid_rotation $rot -fdem_output "$out"
   done
 done
 /usr/bin/python3 "$here/plot.py" "$out"

@@ -12,6 +12,6 @@ mkdir -p "$out"
 rm -f "$out/tumbling.h5" "$out/tumbling.xmf"
 nbodies=${NBODIES:-30}
 # NBODIES mesh bodies + 3 without a mesh (octahedra); 100 steps of 0.005, written every 10 steps: 11 outputs
-"$@" -n "$np" "$exe" -n "$nbodies" -n_plain 3 -T 0.5 -dt 0.005 -write_every 10 -output "$out/tumbling" -fdem_rigid_rotation exact
+"$@" -n "$np" "$exe" -fdem_bodies "$nbodies" -fdem_plain_bodies 3 -ts_max_time 0.5 -ts_dt 0.005 -fdem_output_every 10 -fdem_output "$out" -fdem_rigid_rotation exact
 /usr/bin/python3 "$here/check_output.py" "$out/tumbling" 11 $((nbodies + 3))
 echo "open $out/tumbling.xmf in ParaView"

@@ -2,24 +2,28 @@
 // (convex hulls of random points, ellipsoids, boxes) with random spins and
 // velocities fly through a box split into slabs, one per rank; bodies migrate
 // between ranks as they cross the slab boundaries. Optional gravity. Writes
-// the bodies' skins to HDF5 + XDMF every -write_every steps (-n_plain adds
-// bodies given by principal data only, drawn as octahedra)
-// (FDEMRigidWriteHDF5) and checks its own result:
+// the bodies' skins to DIR/tumbling.h5 + .xmf (FDEMRigidWriteHDF5;
+// -fdem_output DIR, default out/tumbling) every -fdem_output_every steps, which
+// is also the migration interval (-fdem_plain_bodies adds bodies given by
+// principal data only, drawn as octahedra) and checks its own result:
 //
 //   no gravity (and no torque):  total linear momentum P and angular momentum
-//     L (about the origin) conserved to 1e-12 relative (-expect_momentum),
-//     kinetic energy E to -expect_energy (default 1e-12, the bound for
+//     L (about the origin) conserved to 1e-12 relative (-fdem_expect_momentum),
+//     kinetic energy E to -fdem_expect_energy (default 1e-12, the bound for
 //     -fdem_rigid_rotation exact; the run.sh / CTest cases with munjiza and
 //     nosquish pass their measured bounds);
-//   -gravity:  P(t) = P(0) + M g t to 1e-12 relative to |P| + M|g|t, and
-//     E - M g . x_cm conserved to -expect_energy.
+//   -fdem_gravity:  P(t) = P(0) + M g t to 1e-12 relative to |P| + M|g|t, and
+//     E - M g . x_cm conserved to -fdem_expect_energy.
 //
-// Run: mpiexec -n 2 ./tumbling -n 60 -T 2 -output tumbling -write_every 10
-// then open tumbling.xmf in ParaView; check_output.py verifies the files.
+// Run: mpiexec -n 2 ./tumbling -fdem_bodies 60 -ts_max_time 2 -fdem_output out/tumbling
+// then open out/tumbling/tumbling.xmf in ParaView; check_output.py verifies the
+// files. doc/examples.md lists the options.
 #include <fdem.h>
 #include <fdem/rigid.h>
 #include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/rotation.hpp>
+
+#include "../common/options.hpp"
 
 #include <cmath>
 #include <random>
@@ -31,15 +35,13 @@ using fdem::kernels::Vec3;
 namespace {
 
 struct Ctx {
-  char      output[PETSC_MAX_PATH_LEN] = "";
-  PetscInt  write_every = 10;
+  std::string output; // DIR/tumbling, or empty: no output
   PetscReal P0[3], L0[3], E0, X0[3]; // initial invariants and M x_cm
   PetscReal Mtot = 0, g[3] = {0, 0, 0};
   PetscInt  nglobal = 0;
   double    errP = 0, errL = 0, errE = 0;
   PetscInt  writes = 0;
   PetscMPIInt rank = 0;
-  PetscReal T = 0;
 };
 
 // M x_cm (sum of m x over all bodies), through the public API
@@ -85,8 +87,9 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt step, PetscReal t, void *ptr) {
   PetscCall(PetscSynchronizedPrintf(PETSC_COMM_WORLD, " %" PetscInt_FMT, nloc));
   PetscCall(PetscSynchronizedFlush(PETSC_COMM_WORLD, PETSC_STDOUT));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n"));
-  if (c->output[0] && (step % c->write_every == 0 || t >= c->T - 1e-12 * c->T)) {
-    PetscCall(FDEMRigidWriteHDF5(rb, c->output, step, t));
+  // FDEMRigidSolve calls the monitor at step 0, every migration (= output) interval and at the end
+  if (!c->output.empty()) {
+    PetscCall(FDEMRigidWriteHDF5(rb, c->output.c_str(), step, t));
     c->writes++;
   }
   PetscFunctionReturn(0);
@@ -94,30 +97,38 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt step, PetscReal t, void *ptr) {
 
 } // namespace
 
-int main(int argc, char **argv) {
-  Ctx       c;
-  PetscInt  n = 60, seed = 7, nplain = 0;
-  PetscReal T = 1.0, dt = 0.005, vmax = 3.0, wmax = 6.0;
-  PetscReal expect_momentum = 1e-12, expect_energy = 1e-12;
-  PetscBool gravity = PETSC_FALSE;
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+PetscErrorCode RunExample(int *status) {
+  PetscFunctionBeginUser;
+  namespace ex = fdem::examples;
+  Ctx        c;
+  PetscInt   n = 60, seed = 7, nplain = 0;
+  PetscReal  vmax = 3.0, wmax = 6.0;
+  PetscReal  expect_momentum = 1e-12, expect_energy = 1e-12;
+  PetscBool  gravity = PETSC_FALSE;
+  ex::Output out{"out/tumbling", 10};
   PetscCall(FDEMInitializePackage());
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &c.rank));
-  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Tumbling rigid bodies", "");
-  PetscCall(PetscOptionsInt("-n", "number of bodies", "", n, &n, nullptr));
-  PetscCall(PetscOptionsInt("-n_plain", "further bodies from principal data only (no mesh; drawn as octahedra)", "", nplain, &nplain, nullptr));
-  PetscCall(PetscOptionsInt("-seed", "random seed", "", seed, &seed, nullptr));
-  PetscCall(PetscOptionsReal("-T", "final time", "", T, &T, nullptr));
-  PetscCall(PetscOptionsReal("-dt", "time step", "", dt, &dt, nullptr));
-  PetscCall(PetscOptionsReal("-vmax", "largest initial speed component", "", vmax, &vmax, nullptr));
-  PetscCall(PetscOptionsReal("-wmax", "largest initial angular speed", "", wmax, &wmax, nullptr));
-  PetscCall(PetscOptionsBool("-gravity", "gravity (0, 0, -9.81)", "", gravity, &gravity, nullptr));
-  PetscCall(PetscOptionsString("-output", "file base for HDF5 + XDMF output (none: no output)", "", c.output, c.output, sizeof(c.output), nullptr));
-  PetscCall(PetscOptionsInt("-write_every", "write (and migrate) every k steps", "", c.write_every, &c.write_every, nullptr));
-  PetscCall(PetscOptionsReal("-expect_momentum", "bound on the relative change of P and L", "", expect_momentum, &expect_momentum, nullptr));
-  PetscCall(PetscOptionsReal("-expect_energy", "bound on the relative change of the energy", "", expect_energy, &expect_energy, nullptr));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Tumbling rigid bodies; time steps: -ts_dt (0.005), -ts_max_time (1), -ts_type (cd)", "");
+  PetscCall(PetscOptionsInt("-fdem_bodies", "number of mesh bodies (hulls, ellipsoids, boxes)", "", n, &n, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_plain_bodies", "further bodies from principal data only (no mesh; drawn as octahedra)", "", nplain, &nplain, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_seed", "random seed", "", seed, &seed, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_vmax", "largest initial speed component", "", vmax, &vmax, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_wmax", "largest initial angular speed", "", wmax, &wmax, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_gravity", "gravity (0, 0, -9.81)", "", gravity, &gravity, nullptr));
+  FDEM_EXAMPLE_OUTPUT_OPTIONS(out, " (HDF5 + XDMF) and migrations");
+  PetscCall(PetscOptionsReal("-fdem_expect_momentum", "bound on the relative change of P and L", "", expect_momentum, &expect_momentum, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_expect_energy", "bound on the relative change of the energy", "", expect_energy, &expect_energy, nullptr));
   PetscOptionsEnd();
-  c.T = T;
+  PetscCall(ex::CheckInt("-fdem_bodies", n, 0, 100000));
+  PetscCall(ex::CheckInt("-fdem_plain_bodies", nplain, 0, 100000));
+  PetscCheck(n + nplain > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Options -fdem_bodies %" PetscInt_FMT " and -fdem_plain_bodies %" PetscInt_FMT ": need at least one body", n, nplain);
+  PetscCall(ex::CheckInt("-fdem_seed", seed, 0, PETSC_MAX_INT));
+  PetscCall(ex::CheckNonNegative("-fdem_vmax", vmax));
+  PetscCall(ex::CheckNonNegative("-fdem_wmax", wmax));
+  PetscCall(ex::CheckPositive("-fdem_expect_momentum", expect_momentum));
+  PetscCall(ex::CheckPositive("-fdem_expect_energy", expect_energy));
+  PetscCall(ex::SetUpOutput(out));
+  c.output = out.path("tumbling");
 
   FDEMRigid rb;
   PetscCall(FDEMRigidCreate(PETSC_COMM_WORLD, &rb));
@@ -180,9 +191,12 @@ int main(int argc, char **argv) {
   PetscCall(FDEMRigidGetNumBodies(rb, &nloc, &c.nglobal));
   PetscCall(FDEMRigidGetInvariants(rb, c.P0, c.L0, &c.E0));
   PetscCall(MassMoment(rb, c.nglobal, c.X0, &c.Mtot));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " bodies (hulls, ellipsoids, boxes), total mass %g, T = %g, dt = %g, gravity (%g, %g, %g)\n", c.nglobal, (double)c.Mtot, (double)T, (double)dt, (double)c.g[0],
-                        (double)c.g[1], (double)c.g[2]));
-  PetscCall(FDEMRigidSolve(rb, 0.0, T, dt, c.write_every, Monitor, &c));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " bodies (hulls, ellipsoids, boxes), total mass %g, gravity (%g, %g, %g)\n", c.nglobal, (double)c.Mtot, (double)c.g[0], (double)c.g[1], (double)c.g[2]));
+  PetscCall(FDEMRigidSolve(rb, 0.0, 1.0, 0.005, out.every, Monitor, &c)); // -ts_max_time, -ts_dt override 1.0, 0.005
+  PetscReal tf;
+  PetscInt  steps;
+  PetscCall(FDEMRigidGetTime(rb, &tf, &steps));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " steps to t = %g\n", steps, (double)tf));
 
   int failures = 0;
   const bool torque_free = c.g[0] == 0 && c.g[1] == 0 && c.g[2] == 0;
@@ -200,9 +214,11 @@ int main(int argc, char **argv) {
     failures++;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL: energy changed by %.3e > %.1e\n", c.errE, (double)expect_energy));
   }
-  if (c.output[0]) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "wrote %" PetscInt_FMT " steps to %s.h5 and %s.xmf\n", c.writes, c.output, c.output));
+  if (!c.output.empty()) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "wrote %" PetscInt_FMT " steps to %s.h5 and %s.xmf\n", c.writes, c.output.c_str(), c.output.c_str()));
   PetscCall(FDEMRigidDestroy(&rb));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d failures\n", failures));
-  PetscCall(PetscFinalize());
-  return failures ? 1 : 0;
+  *status = failures ? 1 : 0;
+  PetscFunctionReturn(0);
 }
+
+int main(int argc, char **argv) { return fdem::examples::Main(argc, argv, RunExample); }

@@ -7,13 +7,18 @@
 //   f1 = (beta1^2 / 2 pi) sqrt(E I / (rho A L^4)),  beta1 = 1.8751, I = W H^3 / 12.
 // nu = 0 by default, so beam theory's E is the material's (no Poisson stiffening at the clamp).
 //
-// Options: -L 1 -W 0.1 -H 0.1 -n 4 (cells across the thickness) -E 1 -rho 1 -nu 0
-//   -model munjiza_cst|neo_hookean|small_strain_linear -cfl 0.3 -periods 1.1
-//   -amp 1e-4 (tip amplitude / L) -csv tip.csv -h5 base (-h5_every 200)
-//   -expect_freq_error 0.03 (fails if |f - f_EB| / f_EB is larger)
-//   -convergence 2,3,4 (runs the meshes in turn and prints the table)
+// Options (doc/examples.md): -fdem_length 1 -fdem_width 0.1 -fdem_thickness 0.1
+//   -fdem_cells_thick 8 (cells across the thickness) -fdem_cells_wide 1 -fdem_aspect 1
+//   -fdem_young 1 -fdem_density 1 -fdem_poisson 0 -fdem_material munjiza_cst|neo_hookean|small_strain_linear
+//   -fdem_cfl 0.3 (default -ts_dt = cfl h / c_p) -ts_max_time (default 1.1 Euler-Bernoulli periods)
+//   -fdem_amplitude 1e-4 (tip amplitude / L) -fdem_output DIR (default out/vibrating_beam: tip.csv,
+//   beam.h5 + beam.xmf every -fdem_output_every 200 steps; none: no files)
+//   -fdem_expect_freq_error 0.03 (fails if |f - f_EB| / f_EB is larger)
+//   -fdem_convergence 2,3,4 (runs the meshes in turn and prints the table)
 #include <fdem.h>
 #include <fdem/deformable.h>
+
+#include "../common/options.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -66,7 +71,8 @@ struct Result {
   PetscInt cells, steps;
 };
 
-PetscErrorCode Run(PetscInt n, PetscInt ny, PetscReal aspect, double L, double W, double H, double E, double rho, double nu, FDEMMaterialModel model, double cfl, double periods, double amp, const char *csv, const char *h5, PetscInt h5_every, Result *res) {
+// csv, h5: file names, or empty for none
+PetscErrorCode Run(PetscInt n, PetscInt ny, PetscReal aspect, double L, double W, double H, double E, double rho, double nu, FDEMMaterialModel model, double cfl, double amp, const std::string &csv, const std::string &h5, PetscInt h5_every, Result *res) {
   FDEMDeformable d;
   Ctx            c;
   TS             ts;
@@ -103,22 +109,17 @@ PetscErrorCode Run(PetscInt n, PetscInt ny, PetscReal aspect, double L, double W
     PetscInt nt = (PetscInt)c.tip.size();
     PetscCall(MPIU_Allreduce(&nt, &c.ntip_global, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
   }
-  if (h5) {
-    c.h5       = h5;
-    c.h5_every = h5_every;
-  }
+  c.h5       = h5;
+  c.h5_every = h5_every;
   // time step from the P-wave speed and the element size
   const double cp = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho));
-  const double dt = cfl * (H / n) / cp, tf = periods / res->f_eb;
+  PetscReal dt = cfl * (H / n) / cp, tf = 1.1 / res->f_eb;
   PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
-  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(fdem::examples::SetTimeDefaults(ts, TSFDEMCD, dt, tf));
   PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
-  PetscCall(TSSetTimeStep(ts, dt));
-  PetscCall(TSSetMaxTime(ts, tf));
-  PetscCall(TSSetMaxSteps(ts, 100000000));
-  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSMonitorSet(ts, Monitor, &c, nullptr));
   PetscCall(TSSetFromOptions(ts));
+  PetscCall(fdem::examples::GetTimeSettings(ts, &dt, &tf, nullptr));
   PetscLogDouble t0, t1;
   PetscCall(PetscTime(&t0));
   PetscCall(TSSolve(ts, U));
@@ -134,14 +135,14 @@ PetscErrorCode Run(PetscInt n, PetscInt ny, PetscReal aspect, double L, double W
     num += (k + 1) * tc[k];
     den += (k + 1) * (k + 1);
   }
-  PetscCheck(!tc.empty(), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "vibrating_beam: the tip never crossed zero in %g periods; run longer (-periods)", periods);
+  PetscCheck(!tc.empty(), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "vibrating_beam: the tip never crossed zero in %g periods (t = %g); run longer (-ts_max_time)", (double)(tf * res->f_eb), (double)tf);
   const double T = 2 * num / den;
   res->f         = 1 / T;
   res->err       = (res->f - res->f_eb) / res->f_eb;
-  if (csv) {
+  if (!csv.empty()) {
     FILE *fp = nullptr;
     if (!c.u.empty()) {
-      PetscCall(PetscFOpen(PETSC_COMM_WORLD, csv, "w", &fp));
+      PetscCall(PetscFOpen(PETSC_COMM_WORLD, csv.c_str(), "w", &fp));
       PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "t,tip_uz\n"));
       for (size_t i = 0; i < c.u.size(); ++i) PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "%.10g,%.10g\n", c.t[i], c.u[i]));
       PetscCall(PetscFClose(PETSC_COMM_WORLD, fp));
@@ -154,35 +155,50 @@ PetscErrorCode Run(PetscInt n, PetscInt ny, PetscReal aspect, double L, double W
 }
 } // namespace
 
-int main(int argc, char **argv) {
-  PetscReal L = 1, W = 0.1, H = 0.1, E = 1, rho = 1, nu = 0, cfl = 0.3, periods = 1.1, amp = 1e-4, expect = -1;
-  PetscReal aspect = 1;
-  PetscInt  ny = 1, n = 8, h5_every = 200, conv[8], nconv = 8;
-  PetscBool has_conv;
-  char      csv[PETSC_MAX_PATH_LEN] = "", h5[PETSC_MAX_PATH_LEN] = "";
+PetscErrorCode RunExample(int *status) {
+  PetscFunctionBeginUser;
+  namespace ex = fdem::examples;
+  PetscReal         L = 1, W = 0.1, H = 0.1, E = 1, rho = 1, nu = 0, cfl = 0.3, amp = 1e-4, expect = -1;
+  PetscReal         aspect = 1;
+  PetscInt          ny = 1, n = 8, conv[8], nconv = 8;
+  PetscBool         has_conv, has_expect;
+  ex::Output        out{"out/vibrating_beam", 200};
   FDEMMaterialModel model = FDEM_MATERIAL_MUNJIZA_CST;
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   PetscCall(FDEMInitializePackage());
-  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Vibrating cantilever", "");
-  PetscCall(PetscOptionsReal("-L", "length", "", L, &L, nullptr));
-  PetscCall(PetscOptionsReal("-W", "width (y)", "", W, &W, nullptr));
-  PetscCall(PetscOptionsReal("-H", "thickness (z, bending direction)", "", H, &H, nullptr));
-  PetscCall(PetscOptionsInt("-n", "cells across the thickness", "", n, &n, nullptr));
-  PetscCall(PetscOptionsInt("-ny", "cells across the width (0: cubes, as many as the thickness)", "", ny, &ny, nullptr));
-  PetscCall(PetscOptionsReal("-aspect", "element length along x / thickness size (with -ny)", "", aspect, &aspect, nullptr));
-  PetscCall(PetscOptionsReal("-E", "Young's modulus", "", E, &E, nullptr));
-  PetscCall(PetscOptionsReal("-rho", "density", "", rho, &rho, nullptr));
-  PetscCall(PetscOptionsReal("-nu", "Poisson's ratio", "", nu, &nu, nullptr));
-  PetscCall(PetscOptionsEnum("-model", "material model", "", FDEMMaterialModels, (PetscEnum)model, (PetscEnum *)&model, nullptr));
-  PetscCall(PetscOptionsReal("-cfl", "dt = cfl h / c_p", "", cfl, &cfl, nullptr));
-  PetscCall(PetscOptionsReal("-periods", "simulated time in Euler-Bernoulli periods", "", periods, &periods, nullptr));
-  PetscCall(PetscOptionsReal("-amp", "tip amplitude / L", "", amp, &amp, nullptr));
-  PetscCall(PetscOptionsString("-csv", "tip displacement history (CSV)", "", csv, csv, sizeof(csv), nullptr));
-  PetscCall(PetscOptionsString("-h5", "HDF5 + XDMF output base name", "", h5, h5, sizeof(h5), nullptr));
-  PetscCall(PetscOptionsInt("-h5_every", "steps between HDF5 outputs", "", h5_every, &h5_every, nullptr));
-  PetscCall(PetscOptionsReal("-expect_freq_error", "fail if |f - f_EB| / f_EB exceeds this", "", expect, &expect, nullptr));
-  PetscCall(PetscOptionsIntArray("-convergence", "run these n in turn", "", conv, &nconv, &has_conv));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Vibrating cantilever; time steps: -ts_dt (cfl h / c_p), -ts_max_time (1.1 periods), -ts_type (cd)", "");
+  PetscCall(PetscOptionsReal("-fdem_length", "length L (x)", "", L, &L, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_width", "width W (y)", "", W, &W, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_thickness", "thickness H (z, bending direction)", "", H, &H, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_cells_thick", "cells across the thickness", "", n, &n, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_cells_wide", "cells across the width (0: the beam mesh of cubes, as many as across the thickness)", "", ny, &ny, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_aspect", "element length along x / thickness size (with -fdem_cells_wide > 0)", "", aspect, &aspect, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_young", "Young's modulus E", "", E, &E, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_density", "density rho", "", rho, &rho, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_poisson", "Poisson's ratio nu", "", nu, &nu, nullptr));
+  PetscCall(PetscOptionsEnum("-fdem_material", "material model", "", FDEMMaterialModels, (PetscEnum)model, (PetscEnum *)&model, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_cfl", "default time step = cfl h / c_p (-ts_dt overrides)", "", cfl, &cfl, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_amplitude", "tip amplitude / L", "", amp, &amp, nullptr));
+  FDEM_EXAMPLE_OUTPUT_OPTIONS(out, " (HDF5 + XDMF of the mesh)");
+  PetscCall(PetscOptionsReal("-fdem_expect_freq_error", "fail if |f - f_EB| / f_EB exceeds this", "", expect, &expect, &has_expect));
+  PetscCall(PetscOptionsIntArray("-fdem_convergence", "run these -fdem_cells_thick in turn", "", conv, &nconv, &has_conv));
   PetscOptionsEnd();
+  PetscCall(ex::CheckPositive("-fdem_length", L));
+  PetscCall(ex::CheckPositive("-fdem_width", W));
+  PetscCall(ex::CheckPositive("-fdem_thickness", H));
+  PetscCall(ex::CheckInt("-fdem_cells_thick", n, 1, 1000));
+  PetscCall(ex::CheckInt("-fdem_cells_wide", ny, 0, 1000));
+  PetscCall(ex::CheckPositive("-fdem_aspect", aspect));
+  PetscCall(ex::CheckPositive("-fdem_young", E));
+  PetscCall(ex::CheckPositive("-fdem_density", rho));
+  PetscCall(ex::CheckReal("-fdem_poisson", nu, 0, false, 0.5, true));
+  PetscCall(ex::CheckReal("-fdem_cfl", cfl, 0, true, 1, false));
+  PetscCall(ex::CheckPositive("-fdem_amplitude", amp));
+  if (has_expect) PetscCall(ex::CheckPositive("-fdem_expect_freq_error", expect));
+  if (has_conv) {
+    PetscCheck(nconv > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "Option -fdem_convergence: give at least one number of cells");
+    for (PetscInt i = 0; i < nconv; ++i) PetscCall(ex::CheckInt("-fdem_convergence", conv[i], 1, 1000));
+  }
+  PetscCall(ex::SetUpOutput(out));
   if (!has_conv) {
     conv[0] = n;
     nconv   = 1;
@@ -193,20 +209,21 @@ int main(int argc, char **argv) {
   double prev_err = 1e300;
   for (PetscInt i = 0; i < nconv; ++i) {
     const bool last = i == nconv - 1;
-    PetscCall(Run(conv[i], ny, aspect, L, W, H, E, rho, nu, model, cfl, periods, amp, last && csv[0] ? csv : nullptr, last && h5[0] ? h5 : nullptr, h5_every, &r));
+    PetscCall(Run(conv[i], ny, aspect, L, W, H, E, rho, nu, model, cfl, amp, last ? out.path("tip.csv") : "", last ? out.path("beam") : "", out.every, &r));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%4d %9d %8d %12.6g %12.6g %+8.2f%% %8.2f\n", (int)conv[i], (int)r.cells, (int)r.steps, r.f, r.f_eb, 100 * r.err, r.wall));
     PetscCheck(i == 0 || std::fabs(r.err) < std::fabs(prev_err), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "vibrating_beam: no convergence: error %.2f%% after %.2f%%", 100 * r.err, 100 * prev_err);
     prev_err = r.err;
   }
-  if (csv[0]) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "tip history: %s\n", csv));
-  if (h5[0]) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "mesh: %s.h5 + %s.xmf (ParaView: open the .xmf)\n", h5, h5));
+  if (out.on()) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "tip history: %s/tip.csv; mesh: %s/beam.h5 + beam.xmf (ParaView: open the .xmf)\n", out.dir, out.dir));
   if (nconv > 1) { // convergence: the error fell with every refinement (checked in the loop)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: the error falls with every refinement\n"));
   }
-  if (expect > 0) {
+  if (has_expect) {
     PetscCheck(std::fabs(r.err) <= expect, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "vibrating_beam: first frequency %g differs from Euler-Bernoulli %g by %.2f%% > %.2f%%", r.f, r.f_eb, 100 * std::fabs(r.err), 100 * (double)expect);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ok: |f - f_EB| / f_EB = %.2f%% <= %.2f%%\n", 100 * std::fabs(r.err), 100 * (double)expect));
   }
-  PetscCall(PetscFinalize());
-  return 0;
+  *status = 0;
+  PetscFunctionReturn(0);
 }
+
+int main(int argc, char **argv) { return fdem::examples::Main(argc, argv, RunExample); }

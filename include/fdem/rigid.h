@@ -34,6 +34,7 @@ PETSC_EXTERN PetscErrorCode FDEMRigidDestroy(FDEMRigid *rb);
 /* -fdem_rigid_rotation munjiza|nosquish|exact, -fdem_rigid_gravity gx,gy,gz */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetRotationType(FDEMRigid rb, FDEMRotationType type);
+PETSC_EXTERN PetscErrorCode FDEMRigidGetRotationType(FDEMRigid rb, FDEMRotationType *type);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetGravity(FDEMRigid rb, const PetscReal g[3]);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
 /* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body. */
@@ -61,13 +62,20 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U);
 PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS ts, Vec *U);
 /* Sends every body to the rank whose slab holds its centre (DMSwarmMigrate). */
 PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
-/* Solves from the current time to tfinal with the TS options of ts's prefix,
-   migrating every `migrate_every` steps (a new TS per segment). */
+/* Solves from t0 to tfinal with steps dt (default type cd), migrating every
+   `migrate_every` steps (a new TS per segment). dt, tfinal and the type are
+   defaults: -ts_dt, -ts_max_time, -ts_max_steps and -ts_type win.
+   The splitting types that turn R with the drift (cd, pv, omf30, omf32, chin,
+   fr, pefrl) step rigid bodies; basicsymplectic stops with an error. */
 PETSC_EXTERN PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, PetscReal dt, PetscInt migrate_every, PetscErrorCode (*monitor)(FDEMRigid, PetscInt, PetscReal, void *), void *mctx);
+/* Where the last FDEMRigidSolve stopped: its final time and step number (either may be NULL). */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetTime(FDEMRigid rb, PetscReal *t, PetscInt *steps);
 
+/* One body: H and omega_space are space-frame vectors (the body-frame angular
+   velocity is R^T omega_space); inertia holds the principal moments. */
 typedef struct {
   PetscInt  id;
-  PetscReal mass, inertia[3], x[3], R[9], v[3], H[3], omega[3], radius;
+  PetscReal mass, inertia[3], x[3], R[9], v[3], H[3], omega_space[3], radius;
   PetscMPIInt rank;
 } FDEMRigidBodyState;
 /* Collective: the state of body id, wherever it lives. */

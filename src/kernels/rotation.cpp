@@ -370,13 +370,13 @@ Mat3 ExactRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
 Mat3 MunjizaRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
   // Steps 1-6 of doc/book.md B with the typos corrected and the consistent stage 1
   // (omega from H, so any impulse already added to H is seen by every stage).
-  const Vec3 w1 = BodyOmega(R, I, H);
+  const Vec3 w1 = SpaceOmega(R, I, H);
   const Mat3 R1 = RotateTriad(R, 0.5 * s * w1);
-  const Vec3 w2 = BodyOmega(R1, I, H);
+  const Vec3 w2 = SpaceOmega(R1, I, H);
   const Mat3 R2 = RotateTriad(R, 0.5 * s * w2);
-  const Vec3 w3 = BodyOmega(R2, I, H);
+  const Vec3 w3 = SpaceOmega(R2, I, H);
   const Mat3 R3 = RotateTriad(R, s * w3);
-  const Vec3 w4 = BodyOmega(R3, I, H);
+  const Vec3 w4 = SpaceOmega(R3, I, H);
   const Vec3 wbar = (w1 + 2.0 * w2 + 2.0 * w3 + w4) / 6.0;
   return RotateTriad(R, s * wbar);
 }
@@ -426,7 +426,7 @@ Mat3 RotateTriad(const Mat3 &R, const Vec3 &psi) {
   return Mat3::columns(RotateRodrigues(R.col(0), psi), RotateRodrigues(R.col(1), psi), RotateRodrigues(R.col(2), psi));
 }
 
-Vec3 BodyOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return R * DivideBy(transpose(R) * H, I); }
+Vec3 SpaceOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return R * DivideBy(transpose(R) * H, I); }
 
 Vec3 AngularMomentum(const Mat3 &R, const Vec3 &I, const Vec3 &omega) { return R * Hadamard(I, transpose(R) * omega); }
 

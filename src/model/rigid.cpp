@@ -51,25 +51,15 @@ PetscMPIInt OwnerRank(FDEMRigid rb, const PetscReal x[3]) {
   return (PetscMPIInt)std::min<long>(std::max<long>(r, 0), rb->size - 1);
 }
 
-// RHS of the "position" split: dx/dt = v, dR/dt = [omega]x R. fdem's splitting
-// schemes never call it for rigid bodies (they use the drift below); it
-// exists so the problem is complete, with R taken from the current solution.
-PetscErrorCode RHSPosition(TS ts, PetscReal, Vec P, Vec dQ, void *ctx) {
-  FDEMRigid          rb = (FDEMRigid)ctx;
-  const PetscScalar *p, *u;
-  PetscScalar       *dq;
-  Vec                U;
-  const PetscInt     n = rb->n;
+// RHS of the "position" split, dx/dt = v, dR/dt = [omega]x R, called only by
+// TS types that move the positions by adding h times it (basicsymplectic).
+// That update does not keep R a rotation, so it stops with an error; fdem's
+// splitting schemes never call it (they turn R with the drift below).
+PetscErrorCode RHSPosition(TS, PetscReal, Vec, Vec, void *ctx) {
+  FDEMRigid rb = (FDEMRigid)ctx;
   PetscFunctionBegin;
-  PetscCall(TSGetSolution(ts, &U));
-  PetscCall(VecGetArrayRead(P, &p));
-  PetscCall(VecGetArrayRead(U, &u));
-  PetscCall(VecGetArray(dQ, &dq));
-  fdem::model::RigidPositionRate(rb, p, &u[3 * n], dq);
-  PetscCall(VecRestoreArray(dQ, &dq));
-  PetscCall(VecRestoreArrayRead(U, &u));
-  PetscCall(VecRestoreArrayRead(P, &p));
-  PetscFunctionReturn(0);
+  SETERRQ(rb->comm, PETSC_ERR_SUP,
+          "Rigid bodies: this -ts_type updates the positions additively (q += h dq/dt, as basicsymplectic does), which does not keep the orientations R rotation matrices; rigid orientations need an fdem splitting type that turns R with the free-rotation drift: -ts_type cd, pv, omf30, omf32, chin, fr or pefrl");
 }
 
 // RHS of the "momentum" split: (F/m, M) from gravity and the user's force function.
@@ -130,7 +120,7 @@ void fdem::model::RigidPositionRate(FDEMRigid rb, const PetscScalar *p, const Pe
     for (int k = 0; k < 3; ++k) dq[3 * b + k] = p[3 * b + k];
     const Mat3 R = FromRowMajor(&R9[9 * b]);
     const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
-    const Vec3 w = fdem::kernels::BodyOmega(R, I, Vec3(p[3 * n + 3 * b], p[3 * n + 3 * b + 1], p[3 * n + 3 * b + 2]));
+    const Vec3 w = fdem::kernels::SpaceOmega(R, I, Vec3(p[3 * n + 3 * b], p[3 * n + 3 * b + 1], p[3 * n + 3 * b + 2]));
     for (int c = 0; c < 3; ++c) {
       const Vec3 d = fdem::kernels::cross(w, R.col(c));
       for (int r = 0; r < 3; ++r) dq[3 * n + 9 * b + 3 * r + c] = d[r];
@@ -239,6 +229,12 @@ PetscErrorCode FDEMRigidDestroy(FDEMRigid *rb) {
 PetscErrorCode FDEMRigidSetRotationType(FDEMRigid rb, FDEMRotationType type) {
   PetscFunctionBegin;
   rb->rotation = type;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidGetRotationType(FDEMRigid rb, FDEMRotationType *type) {
+  PetscFunctionBegin;
+  *type = rb->rotation;
   PetscFunctionReturn(0);
 }
 
@@ -440,15 +436,19 @@ PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
 
 PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, PetscReal dt, PetscInt migrate_every, PetscErrorCode (*monitor)(FDEMRigid, PetscInt, PetscReal, void *), void *mctx) {
   PetscReal t    = t0;
-  PetscInt  step = 0;
+  PetscInt  step = 0, max_steps = PETSC_MAX_INT;
   PetscFunctionBegin;
-  PetscCheck(dt > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSolve: the time step must be positive, got %g", (double)dt);
+  PetscCheck(std::isfinite(dt) && dt > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSolve: the time step must be positive and finite, got %g", (double)dt);
   if (migrate_every <= 0) migrate_every = PETSC_MAX_INT / 2;
+  rb->solve_time  = t;
+  rb->solve_steps = 0;
   if (monitor) PetscCall(monitor(rb, step, t, mctx));
-  while (t < tfinal - 1e-12 * PetscMax(1.0, PetscAbsReal(tfinal))) {
+  // dt, tfinal and max_steps are defaults: -ts_dt, -ts_max_time and -ts_max_steps win (read back from each segment's TS)
+  for (bool first = true; first || (t < tfinal - 1e-12 * PetscMax(1.0, PetscAbsReal(tfinal)) && step < max_steps); first = false) {
     TS                ts;
     Vec               U;
     TSConvergedReason reason;
+    const PetscInt    step0 = step;
     PetscCall(TSCreate(rb->comm, &ts));
     PetscCall(TSSetType(ts, TSFDEMCD));
     PetscCall(FDEMRigidSetUpTS(rb, ts, &U));
@@ -456,20 +456,35 @@ PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, Pets
     PetscCall(TSSetStepNumber(ts, step));
     PetscCall(TSSetTimeStep(ts, dt));
     PetscCall(TSSetMaxTime(ts, tfinal));
-    PetscCall(TSSetMaxSteps(ts, step + migrate_every));
+    PetscCall(TSSetMaxSteps(ts, max_steps));
     PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
     PetscCall(TSSetFromOptions(ts));
-    PetscCall(TSSetTimeStep(ts, dt)); // segments keep the caller's step
-    PetscCall(TSSolve(ts, U));
+    PetscCall(TSGetTimeStep(ts, &dt));
+    PetscCall(TSGetMaxTime(ts, &tfinal));
+    PetscCall(TSGetMaxSteps(ts, &max_steps));
+    PetscCheck(std::isfinite(dt) && dt > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSolve: the time step (-ts_dt) must be positive and finite, got %g", (double)dt);
+    PetscCheck(std::isfinite(tfinal), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSolve: the final time (-ts_max_time) must be finite, got %g", (double)tfinal);
+    PetscCall(TSSetMaxSteps(ts, PetscMin(max_steps, step + migrate_every)));
+    if (t < tfinal - 1e-12 * PetscMax(1.0, PetscAbsReal(tfinal)) && step < max_steps) PetscCall(TSSolve(ts, U));
     PetscCall(TSGetConvergedReason(ts, &reason));
     PetscCall(TSGetTime(ts, &t));
     PetscCall(TSGetStepNumber(ts, &step));
     PetscCall(FDEMRigidRestoreState(rb, ts, &U));
     PetscCall(TSDestroy(&ts));
     PetscCheck(reason >= 0, rb->comm, PETSC_ERR_NOT_CONVERGED, "FDEMRigidSolve: the time stepping failed at t = %g (%s)", (double)t, TSConvergedReasons[reason]);
+    rb->solve_time  = t;
+    rb->solve_steps = step;
+    if (step == step0) break; // nothing left to do (the TS's own end test)
     PetscCall(FDEMRigidMigrate(rb));
     if (monitor) PetscCall(monitor(rb, step, t, mctx));
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidGetTime(FDEMRigid rb, PetscReal *t, PetscInt *steps) {
+  PetscFunctionBegin;
+  if (t) *t = rb->solve_time;
+  if (steps) *steps = rb->solve_steps;
   PetscFunctionReturn(0);
 }
 
@@ -491,7 +506,7 @@ PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodySta
     for (int i = 0; i < 9; ++i) buf[k++] = f.R[9 * b + i];
     for (int i = 0; i < 3; ++i) buf[k++] = f.v[3 * b + i];
     for (int i = 0; i < 3; ++i) buf[k++] = f.H[3 * b + i];
-    const Vec3 w = fdem::kernels::BodyOmega(FromRowMajor(&f.R[9 * b]), Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), Vec3(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]));
+    const Vec3 w = fdem::kernels::SpaceOmega(FromRowMajor(&f.R[9 * b]), Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), Vec3(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]));
     for (int i = 0; i < 3; ++i) buf[k++] = w[i];
     buf[k++] = f.radius[b];
   }
@@ -508,7 +523,7 @@ PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodySta
   for (int i = 0; i < 9; ++i) st->R[i] = buf[k++];
   for (int i = 0; i < 3; ++i) st->v[i] = buf[k++];
   for (int i = 0; i < 3; ++i) st->H[i] = buf[k++];
-  for (int i = 0; i < 3; ++i) st->omega[i] = buf[k++];
+  for (int i = 0; i < 3; ++i) st->omega_space[i] = buf[k++];
   st->radius = buf[k++];
   PetscFunctionReturn(0);
 }

@@ -52,6 +52,9 @@ struct _n_FDEMRigid {
   PetscErrorCode (*contact_setup)(FDEMRigid, void *) = nullptr; // at FDEMRigidSetUpTS
   void *contact_ctx = nullptr;
   std::vector<PetscScalar> FM;
+  // where the last FDEMRigidSolve stopped (FDEMRigidGetTime)
+  PetscReal solve_time  = 0;
+  PetscInt  solve_steps = 0;
 };
 
 namespace fdem::model {

@@ -25,7 +25,7 @@ double MaxAbs(const Mat3 &A) {
     for (double v : r) e = std::max(e, std::fabs(v));
   return e;
 }
-Vec3 OmegaBodyOf(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return transpose(R) * BodyOmega(R, I, H); }
+Vec3 OmegaBodyOf(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return transpose(R) * SpaceOmega(R, I, H); }
 // A fixed, non-trivial initial orientation.
 Mat3 SomeRotation() { return RotationMatrix({0.3, -1.1, 0.7}); }
 double Order(double e_coarse, double e_fine, double ratio) { return std::log(e_coarse / e_fine) / std::log(ratio); }
@@ -90,13 +90,13 @@ TEST(Rotation, RodriguesKnownRotationsAndSmallAngle) {
   EXPECT_LT(MaxAbs(R2.col(1) - RotateRodrigues(R.col(1), {0.1, 0.2, 0.3})), 1e-16);
 }
 
-TEST(Rotation, BodyOmegaAndMomentum) {
+TEST(Rotation, SpaceOmegaAndMomentum) {
   const Mat3 R = SomeRotation();
   const Vec3 I{1, 2, 3}, wb{0.4, -0.2, 0.9};
   const Vec3 w = R * wb;
   const Vec3 H = AngularMomentum(R, I, w);
   EXPECT_LT(MaxAbs(H - R * Vec3{0.4, -0.4, 2.7}), 1e-15);
-  EXPECT_LT(MaxAbs(BodyOmega(R, I, H) - w), 1e-15);
+  EXPECT_LT(MaxAbs(SpaceOmega(R, I, H) - w), 1e-15);
   EXPECT_NEAR(RotationalKineticEnergy(R, I, H), 0.5 * (0.16 + 2 * 0.04 + 3 * 0.81), 1e-15);
 }
 
@@ -390,7 +390,7 @@ TEST(Rotation, ConstantTorqueSpinUp) {
         H += (0.5 * h) * M;
         R = FreeRotate(k, R, I, H, h);
         H += (0.5 * h) * M;
-        err = std::max(err, MaxAbs(BodyOmega(R, I, H) - (w0 + (i * h / 2.0) * M)));
+        err = std::max(err, MaxAbs(SpaceOmega(R, I, H) - (w0 + (i * h / 2.0) * M)));
       }
       EXPECT_LT(err, 1e-13) << FreeRotationName(k);
     }

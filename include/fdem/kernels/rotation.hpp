@@ -25,13 +25,17 @@ Mat3 RotationMatrix(const Vec3 &psi);
 // i.e. RotationMatrix(psi) * R.
 Mat3 RotateTriad(const Mat3 &R, const Vec3 &psi);
 
-// Space-frame angular velocity omega = R I^-1 R^T H (book eqs 5.77-5.78).
-Vec3 BodyOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H);
+// Space-frame angular velocity omega = R I^-1 R^T H (book eqs 5.77-5.78); the
+// body-frame one is transpose(R) * SpaceOmega(R, I, H).
+Vec3 SpaceOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H);
+// The old name of SpaceOmega (it returns the space-frame omega too); kept until
+// its last callers (src/contact, src/scene, src/model/rigid_output.cpp) switch.
+inline Vec3 BodyOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return SpaceOmega(R, I, H); }
 
 // Space-frame angular momentum H = R I R^T omega (book eqs 5.70-5.72).
 Vec3 AngularMomentum(const Mat3 &R, const Vec3 &I, const Vec3 &omega);
 
-// Rotational kinetic energy 0.5 H . omega with omega = BodyOmega(R, I, H).
+// Rotational kinetic energy 0.5 H . omega with omega = SpaceOmega(R, I, H).
 double RotationalKineticEnergy(const Mat3 &R, const Vec3 &I, const Vec3 &H);
 
 // max_{ij} |(R^T R - Id)_{ij}|.
