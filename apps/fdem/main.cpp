@@ -46,19 +46,37 @@ fig.tight_layout(); fig.savefig(d + "/balance.png", dpi=120)
 print("wrote " + d + "/balance.png")
 )PY";
 
-// "bodies 3 and 5" / "rigid body 3" in the library's messages -> with the scene's names.
-std::string NameRigidBodies(const Scene &sc, std::string msg) {
-  std::vector<std::string> rigid;
+// The library names bodies by rigid id ("bodies 3 and 5", "rigid body 3") or by
+// name ("deformable body 'slab'", "bodies 'a' and 'b'"): add the scene's names
+// and where each body is written, and start with the first body's file:line:col.
+std::string NameBodies(const Scene &sc, std::string msg) {
+  std::vector<const Body *> rigid;
   for (const auto &b : sc.bodies)
-    if (b.model == "rigid") rigid.push_back(b.name);
-  auto name = [&](const std::string &id) {
+    if (b.model == "rigid") rigid.push_back(&b);
+  std::string first;
+  auto        by_id = [&](const std::string &id) {
     const size_t i = std::stoul(id);
-    return i < rigid.size() ? id + " ('" + rigid[i] + "')" : id;
+    if (i >= rigid.size()) return id;
+    if (first.empty()) first = rigid[i]->where;
+    return id + " ('" + rigid[i]->name + "', " + rigid[i]->where + ")";
+  };
+  auto by_name = [&](const std::string &name) {
+    const Body *b = sc.FindBody(name);
+    if (!b) return "'" + name + "'";
+    if (first.empty()) first = b->where;
+    return "'" + name + "' (" + b->where + ")";
   };
   std::smatch m;
-  if (std::regex_search(msg, m, std::regex("bodies (\\d+) and (\\d+)"))) msg = m.prefix().str() + "bodies " + name(m[1]) + " and " + name(m[2]) + m.suffix().str();
-  else if (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) msg = m.prefix().str() + "rigid body " + name(m[1]) + m.suffix().str();
-  return msg;
+  if (std::regex_search(msg, m, std::regex("bodies (\\d+) and (\\d+)"))) {
+    const std::string a = by_id(m[1]), b = by_id(m[2]);
+    msg = m.prefix().str() + "bodies " + a + " and " + b + m.suffix().str();
+  } else if (std::regex_search(msg, m, std::regex("bodies '([^']*)' and '([^']*)'"))) {
+    const std::string a = by_name(m[1]), b = by_name(m[2]);
+    msg = m.prefix().str() + "bodies " + a + " and " + b + m.suffix().str();
+  }
+  else if (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) msg = m.prefix().str() + "rigid body " + by_id(m[1]) + m.suffix().str();
+  if (std::regex_search(msg, m, std::regex("deformable body '([^']*)'"))) msg = m.prefix().str() + "deformable body " + by_name(m[1]) + m.suffix().str();
+  return (first.empty() ? sc.file : first) + ": " + msg;
 }
 
 // Reads the scene and its meshes (every rank, the same result). Returns an error message or "".
@@ -113,8 +131,8 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
     const char *text;
     char       *specific = nullptr;
     PetscErrorMessage(ierr, &text, &specific);
-    const std::string msg = NameRigidBodies(sc, specific && specific[0] ? specific : (text ? text : "unknown error"));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s: %s\n", sc.file.c_str(), msg.c_str()));
+    const std::string msg = NameBodies(sc, specific && specific[0] ? specific : (text ? text : "unknown error"));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s\n", msg.c_str()));
     *status = 1;
   }
   PetscFunctionReturn(0);

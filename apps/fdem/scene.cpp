@@ -169,7 +169,7 @@ Shape ReadShape(const Reader &r, const std::string &w, const YAML::Node &n, cons
   s.where = r.At(n);
   if (!n.IsMap() || n.size() != 1) r.Fail(n, w + ": expected one shape as {kind: parameters}, kind one of " + Join(kShapes) + Reader::Got(n));
   const YAML::Node  key  = n.begin()->first, v = n.begin()->second;
-  const std::string kind = r.Choice(key, w + ".shape", kShapes);
+  const std::string kind = r.Choice(key, w, kShapes);
   const std::string wk   = w + "." + kind;
   if (kind == "box") {
     s.kind = ShapeKind::Box;
