@@ -215,7 +215,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       std::fprintf(bal, "time,kinetic,strain,contact,gravity,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
     }
   }
-  const PetscInt every = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 100);
+  // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
+  const PetscInt fsteps = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 50);
+  const PetscInt every  = sc.output_balance > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_balance / dt)) : std::max<PetscInt>(1, fsteps / 10);
+  const PetscInt fevery = std::max<PetscInt>(1, fsteps / every) * every;
   std::vector<PetscReal> frames;
   Balance                b;
   PetscReal              t    = 0;
@@ -250,7 +253,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
     PetscCall(WriteBalanceRow(bal, b));
-    if (write) {
+    if (write && (step % fevery == 0 || step >= nsteps || t >= end * (1 - 1e-12))) {
       PetscCall(SimWriteOutput(s, dir, step, t));
       frames.push_back(t);
     }

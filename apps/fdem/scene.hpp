@@ -86,9 +86,8 @@ struct Scene {
   std::vector<Body>     bodies; // after ReadScene: the listed bodies, then the generated ones
   std::vector<Pack>     packs;
   std::string           output_dir = "out";
-  double                output_every = -1; // < 0: 100 frames over the run
-  double                checkpoint_every = -1;
-  long                  checkpoint_keep = 2;
+  double                output_every = -1; // HDF5 frames; < 0: 50 frames over the run
+  double                output_balance = -1; // balance.csv rows; < 0: 10 per frame
   std::string           petsc;
 
   const Material *FindMaterial(const std::string &name) const;
