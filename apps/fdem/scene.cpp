@@ -200,12 +200,11 @@ Shape ReadShape(const Reader &r, const std::string &w, const YAML::Node &n, cons
     if (v["seed"]) s.seed = r.Int(v["seed"], wk + ".seed");
   } else {
     s.kind = ShapeKind::Mesh;
-    YAML::Node f = v;
     if (v.IsMap()) {
       r.Keys(v, wk, {"file", "group"});
-      f = r.Required(v, "file", wk);
       if (v["group"]) s.group = r.String(v["group"], wk + ".group");
     }
+    const YAML::Node f = v.IsMap() ? r.Required(v, "file", wk) : v; // (a YAML::Node assignment would write into the tree)
     s.file = r.String(f, wk + (v.IsMap() ? ".file" : ""));
     if (!s.file.empty() && s.file[0] != '/') s.file = dir + s.file;
     std::ifstream in(s.file);
