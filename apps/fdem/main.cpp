@@ -14,6 +14,7 @@
 #include <fdem.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <regex>
 #include <string>
@@ -100,7 +101,9 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   if (mode && !std::strcmp(mode, "plot")) {
     PetscCheck(file, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "fdem plot: give the output folder, e.g. fdem plot out");
     if (rank == 0) {
-      FILE *py = popen((std::string("python3 - '") + file + "'").c_str(), "w");
+      // the first python3 on PATH that has matplotlib (a pyenv python3 may lack it), else the system's
+      const char *python = std::system("python3 -c 'import matplotlib' > /dev/null 2>&1") == 0 ? "python3" : "/usr/bin/python3";
+      FILE       *py     = popen((std::string(python) + " - '" + file + "'").c_str(), "w");
       PetscCheck(py, PETSC_COMM_SELF, PETSC_ERR_SYS, "fdem plot: cannot run python3");
       std::fputs(kPlot, py);
       *status = pclose(py) == 0 ? 0 : 1;
