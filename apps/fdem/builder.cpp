@@ -9,6 +9,8 @@
 #include <fdem/scene.h>
 #include <fdem/ts.h>
 
+#include <petscviewerhdf5.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -321,6 +323,189 @@ PetscErrorCode SimWriteOutput(Sim &s, const std::string &dir, PetscInt step, Pet
   PetscFunctionBeginUser;
   if (s.rb) PetscCall(FDEMRigidWriteHDF5(s.rb, (dir + "/rigid").c_str(), step, t));
   if (s.dfm) PetscCall(FDEMDeformableWriteHDF5(s.dfm, nullptr, (dir + "/mesh").c_str(), step, t));
+  PetscFunctionReturn(0);
+}
+
+
+namespace {
+// Scatter between a vector in the models' layout (local entries `local`, global index of each in
+// `index`) and the vector by id (`nat`, created here of global size N).
+PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt> &index, PetscInt N, Vec *nat, VecScatter *sc) {
+  IS is;
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPI(comm, PETSC_DECIDE, N, nat));
+  PetscCall(ISCreateGeneral(comm, (PetscInt)index.size(), index.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecScatterCreate(local, nullptr, *nat, is, sc));
+  PetscCall(ISDestroy(&is));
+  PetscFunctionReturn(0);
+}
+
+// The mesh's x and v by node id (3 per node), and the rigid state [x R v H] by body id (18 per body):
+// one by-id vector per part, in the models' layout `lx` (created here) with its scatter.
+struct Parts {
+  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr;
+  VecScatter sd = nullptr, sr = nullptr;
+  PetscErrorCode Destroy() {
+    PetscFunctionBeginUser;
+    PetscCall(VecDestroy(&r));
+    PetscCall(VecDestroy(&ndx));
+    PetscCall(VecDestroy(&ndv));
+    PetscCall(VecDestroy(&nr));
+    PetscCall(VecScatterDestroy(&sd));
+    PetscCall(VecScatterDestroy(&sr));
+    PetscFunctionReturn(0);
+  }
+};
+
+PetscErrorCode MakeParts(Sim &s, Parts &p) {
+  PetscFunctionBeginUser;
+  if (s.dfm) {
+    PetscInt        n;
+    const PetscInt *ids;
+    PetscCall(FDEMDeformableGetPositions(s.dfm, &p.dx));
+    PetscCall(FDEMDeformableGetVelocities(s.dfm, &p.dv));
+    PetscCall(FDEMDeformableGetNodeIds(s.dfm, &n, &ids));
+    std::vector<PetscInt> index(3 * n);
+    for (PetscInt i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) index[3 * i + c] = 3 * ids[i] + c;
+    PetscCall(ByIdScatter(s.comm, p.dx, index, 3 * s.nnodes, &p.ndx, &p.sd));
+    PetscCall(VecDuplicate(p.ndx, &p.ndv));
+    PetscCall(PetscObjectSetName((PetscObject)p.ndx, "mesh_x"));
+    PetscCall(PetscObjectSetName((PetscObject)p.ndv, "mesh_v"));
+  }
+  if (s.rb) {
+    DM        sw;
+    PetscInt  n, *id;
+    PetscCall(FDEMRigidGetDM(s.rb, &sw));
+    PetscCall(DMSwarmGetLocalSize(sw, &n));
+    PetscCall(VecCreateMPI(s.comm, 18 * n, PETSC_DETERMINE, &p.r));
+    std::vector<PetscInt> index(18 * n);
+    PetscCall(DMSwarmGetField(sw, "id", nullptr, nullptr, (void **)&id));
+    for (PetscInt b = 0; b < n; ++b)
+      for (int k = 0; k < 18; ++k) index[18 * b + k] = 18 * id[b] + k;
+    PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&id));
+    PetscCall(ByIdScatter(s.comm, p.r, index, 18 * s.nrigid, &p.nr, &p.sr));
+    PetscCall(PetscObjectSetName((PetscObject)p.nr, "rigid_xRvH"));
+  }
+  PetscFunctionReturn(0);
+}
+
+// Copies the swarm's x, R, v, H into r (to_vec) or back.
+PetscErrorCode RigidFields(Sim &s, Vec r, bool to_vec) {
+  DM           sw;
+  PetscInt     n;
+  PetscReal   *f[4];
+  PetscScalar *a;
+  const char  *names[4] = {"x", "R", "v", "H"};
+  const int    width[4] = {3, 9, 3, 3};
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidGetDM(s.rb, &sw));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(VecGetArray(r, &a));
+  for (int k = 0; k < 4; ++k) PetscCall(DMSwarmGetField(sw, names[k], nullptr, nullptr, (void **)&f[k]));
+  for (PetscInt b = 0; b < n; ++b)
+    for (int k = 0, o = 0; k < 4; o += width[k], ++k)
+      for (int c = 0; c < width[k]; ++c) {
+        if (to_vec) a[18 * b + o + c] = f[k][width[k] * b + c];
+        else f[k][width[k] * b + c] = a[18 * b + o + c];
+      }
+  for (int k = 0; k < 4; ++k) PetscCall(DMSwarmRestoreField(sw, names[k], nullptr, nullptr, (void **)&f[k]));
+  PetscCall(VecRestoreArray(r, &a));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscInt step, PetscReal dt) {
+  Parts       p;
+  PetscViewer v;
+  Vec         meta;
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(MakeParts(s, p));
+  PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_WRITE, &v));
+  if (s.dfm) {
+    PetscCall(VecScatterBegin(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterBegin(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecView(p.ndx, v));
+    PetscCall(VecView(p.ndv, v));
+  }
+  if (s.rb) {
+    PetscCall(RigidFields(s, p.r, true));
+    PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecView(p.nr, v));
+  }
+  PetscCall(VecCreateMPI(s.comm, rank == 0 ? 4 : 0, 4, &meta));
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  if (rank == 0) {
+    PetscCall(VecSetValue(meta, 0, t, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 1, (PetscReal)step, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 2, s.E0, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 3, dt, INSERT_VALUES));
+  }
+  PetscCall(VecAssemblyBegin(meta));
+  PetscCall(VecAssemblyEnd(meta));
+  PetscCall(VecView(meta, v));
+  PetscCall(VecDestroy(&meta));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(p.Destroy());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt) {
+  Parts       p;
+  PetscViewer v;
+  Vec         meta;
+  PetscFunctionBeginUser;
+  PetscCall(MakeParts(s, p));
+  PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_READ, &v));
+  if (s.dfm) {
+    PetscCall(VecLoad(p.ndx, v));
+    PetscCall(VecLoad(p.ndv, v));
+    PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+  }
+  if (s.rb) {
+    PetscCall(VecLoad(p.nr, v));
+    PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(RigidFields(s, p.r, false));
+  }
+  PetscMPIInt rank0;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
+  PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 4 : 0, 4, &meta)); // all on rank 0
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  PetscCall(VecLoad(meta, v));
+  {
+    const PetscScalar *m;
+    PetscReal          buf[4] = {0, 0, 0, 0};
+    PetscMPIInt        rank;
+    PetscInt           lo;
+    PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+    PetscCall(VecGetOwnershipRange(meta, &lo, nullptr));
+    PetscCall(VecGetArrayRead(meta, &m));
+    if (lo == 0) {
+      PetscInt nl;
+      PetscCall(VecGetLocalSize(meta, &nl));
+      for (PetscInt i = 0; i < nl && i < 4; ++i) buf[i] = m[i];
+    }
+    PetscCall(VecRestoreArrayRead(meta, &m));
+    PetscCallMPI(MPI_Bcast(buf, 4, MPIU_REAL, 0, s.comm));
+    *dt       = buf[3];
+    *t        = buf[0];
+    *step     = (PetscInt)std::llround(buf[1]);
+    s.E0      = buf[2];
+    s.have_E0 = true;
+  }
+  PetscCall(VecDestroy(&meta));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(p.Destroy());
+  if (s.rb) PetscCall(FDEMRigidMigrate(s.rb));
   PetscFunctionReturn(0);
 }
 

@@ -65,6 +65,12 @@ PetscErrorCode SimStableStep(Sim &sim, const char *scheme, PetscReal safety, Sta
 PetscErrorCode SimBalance(Sim &sim, Balance &b);
 // Appends step `step` at time t to the HDF5 + XDMF files in dir (rigid.h5/xmf, mesh.h5/xmf).
 PetscErrorCode SimWriteOutput(Sim &sim, const std::string &dir, PetscInt step, PetscReal t);
+// Checkpoint of the models' stored state (call after SimRestore/SimEndTS): one HDF5 file through
+// PETSc's viewer, with the mesh's x, v by node id, the rigid bodies' x, R, v, H by body id and
+// meta = [t, step, E0, dt]. Written by the caller to a temporary name and renamed.
+PetscErrorCode SimWriteCheckpoint(Sim &sim, const char *file, PetscReal t, PetscInt step, PetscReal dt);
+// Loads a checkpoint into the models (any rank count) and migrates the rigid bodies; gives t, step and dt.
+PetscErrorCode SimReadCheckpoint(Sim &sim, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt);
 PetscErrorCode SimDestroy(Sim &sim);
 // Names of rigid body `id` (the library's numbering) in the scene.
 std::string RigidBodyName(const Sim &sim, PetscInt id);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <csignal>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -139,6 +140,32 @@ PetscErrorCode ConfigureTS(Sim &s, PetscReal dt, PetscReal end) {
   PetscFunctionReturn(0);
 }
 
+// Writes DIR/checkpoint.h5 atomically: the file is written as checkpoint.h5.tmp and renamed
+// over the previous one, which is first kept as checkpoint.1.h5 (a hard link, so that a
+// checkpoint.h5 exists at every moment); older ones shift to .2, .3, ... up to `keep` files.
+PetscErrorCode WriteCheckpoint(Sim &s, const std::string &dir, long keep, PetscReal t, PetscInt step, PetscReal dt, bool kill) {
+  PetscMPIInt       rank;
+  const std::string ck = dir + "/checkpoint.h5", tmp = ck + ".tmp";
+  int               err = 0;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(SimWriteCheckpoint(s, tmp.c_str(), t, step, dt));
+  PetscCallMPI(MPI_Barrier(s.comm));
+  if (kill) raise(SIGKILL);
+  if (rank == 0) {
+    auto name = [&](long k) { return dir + "/checkpoint." + std::to_string(k) + ".h5"; };
+    for (long k = keep - 1; k >= 2; --k) std::rename(name(k - 1).c_str(), name(k).c_str());
+    if (keep >= 2 && access(ck.c_str(), F_OK) == 0) {
+      unlink(name(1).c_str());
+      if (link(ck.c_str(), name(1).c_str()) != 0) err = 1;
+    }
+    if (std::rename(tmp.c_str(), ck.c_str()) != 0) err = 1;
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "cannot rename the checkpoint %s into %s", tmp.c_str(), ck.c_str());
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
@@ -146,6 +173,8 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscOptionsBegin(comm, nullptr, "fdem driver (scene keys: fdem --help)", "fdem");
   PetscCall(PetscOptionsString("-fdem_output", "output folder (overrides output.dir of the scene; none: write nothing)", "", o.output, o.output, sizeof(o.output), nullptr));
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
+  PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
+  PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
@@ -163,10 +192,16 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscStrncpy(scheme, sc.scheme.c_str(), sizeof(scheme)));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-ts_type", scheme, sizeof(scheme), &flg)); // the TS's own option (TSSetFromOptions lists it)
   PetscCall(SimBuild(comm, sc, std::move(meshes), s));
-  PetscCall(SimSetUpTS(s, scheme, 0, 0));
+  PetscReal t = 0, dt_restart = 0;
+  PetscInt  step = 0;
+  if (o.restart[0]) {
+    PetscCall(SimReadCheckpoint(s, o.restart, &t, &step, &dt_restart));
+    PetscCall(PetscPrintf(comm, "restart from %s: t = %.6g s, step %" PetscInt_FMT "\n", o.restart, (double)t, step));
+  }
+  PetscCall(SimSetUpTS(s, scheme, t, step));
   StableStep st;
   PetscCall(SimStableStep(s, scheme, sc.safety, st));
-  PetscReal dt = sc.dt > 0 ? sc.dt : st.dt, end = sc.end;
+  PetscReal dt = dt_restart > 0 ? dt_restart : sc.dt > 0 ? sc.dt : st.dt, end = sc.end;
   PetscCall(ConfigureTS(s, dt, end));
   PetscCall(TSGetTimeStep(s.ts, &dt));
   PetscCall(TSGetMaxTime(s.ts, &end));
@@ -206,30 +241,33 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   // output
   const std::string dir   = o.output[0] ? std::string(o.output) : sc.output_dir;
   const bool        write = dir != "none";
+  // a restarted run appends to balance.csv and writes its frames into DIR/restart_<step>
+  const std::string fdir  = o.restart[0] ? dir + "/restart_" + std::to_string((long long)step) : dir;
   FILE             *bal   = nullptr;
   if (write) {
-    PetscCall(MakeDir(comm, dir));
+    PetscCall(MakeDir(comm, fdir));
     if (rank == 0) {
-      bal = std::fopen((dir + "/balance.csv").c_str(), "w");
+      const std::string file = dir + "/balance.csv";
+      const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
+      bal                    = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
       PetscCheck(bal, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/balance.csv", dir.c_str());
-      std::fprintf(bal, "time,kinetic,strain,contact,gravity,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
+      if (head) std::fprintf(bal, "time,kinetic,strain,contact,gravity,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
     }
   }
   // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
   const PetscInt fsteps = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 50);
   const PetscInt every  = sc.output_balance > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_balance / dt)) : std::max<PetscInt>(1, fsteps / 10);
   const PetscInt fevery = std::max<PetscInt>(1, fsteps / every) * every;
+  const PetscInt csteps = sc.checkpoint_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.checkpoint_every / dt / every)) * every : 0;
   std::vector<PetscReal> frames;
   Balance                b;
-  PetscReal              t    = 0;
-  PetscInt               step = 0;
-  b.t                         = 0;
+  b.t = t;
   PetscCall(SimBalance(s, b));
   const Balance first = b;
-  PetscCall(WriteBalanceRow(bal, b));
+  if (!o.restart[0]) PetscCall(WriteBalanceRow(bal, b));
   if (write) {
-    PetscCall(SimWriteOutput(s, dir, 0, 0));
-    frames.push_back(0);
+    PetscCall(SimWriteOutput(s, fdir, step, t));
+    frames.push_back(t);
   }
   Progress prog;
   prog.end    = end;
@@ -240,7 +278,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscTime(&prog.wall0));
   prog.last = prog.wall0;
   PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
-  double maxdP = 0;
+  double   maxdP        = 0;
+  PetscInt ncheckpoints = 0;
   while (step < nsteps && t < end * (1 - 1e-12)) {
     TSConvergedReason reason;
     PetscCall(TSSetMaxSteps(s.ts, std::min(nsteps, step + every)));
@@ -253,11 +292,24 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
     PetscCall(WriteBalanceRow(bal, b));
-    if (write && (step % fevery == 0 || step >= nsteps || t >= end * (1 - 1e-12))) {
-      PetscCall(SimWriteOutput(s, dir, step, t));
+    const bool last = step >= nsteps || t >= end * (1 - 1e-12);
+    if (write && (step % fevery == 0 || last)) {
+      PetscCall(SimWriteOutput(s, fdir, step, t));
       frames.push_back(t);
     }
-    if (SimNeedsMigration(s) && step < nsteps && t < end * (1 - 1e-12)) {
+    // at a checkpoint the TS ends (and a new one starts): a restarted run does the same steps
+    const bool checkpoint = write && csteps > 0 && (step % csteps == 0 || last);
+    if (checkpoint) {
+      PetscCall(SimEndTS(s));
+      ++ncheckpoints;
+      PetscCall(WriteCheckpoint(s, dir, sc.checkpoint_keep, t, step, dt, ncheckpoints == o.kill_in_checkpoint));
+      if (!last) {
+        PetscCall(SimMigrate(s));
+        PetscCall(SimSetUpTS(s, scheme, t, step));
+        PetscCall(ConfigureTS(s, dt, end));
+        PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+      }
+    } else if (SimNeedsMigration(s) && !last) {
       PetscCall(SimEndTS(s));
       PetscCall(SimMigrate(s));
       PetscCall(SimSetUpTS(s, scheme, t, step));
@@ -268,7 +320,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscTime(&w1));
   if (prog.on && prog.tty && rank == 0) std::fprintf(stdout, "\n");
   if (bal) std::fclose(bal);
-  if (write) PetscCall(WriteSceneXdmf(comm, dir, frames, s.rb != nullptr, s.dfm != nullptr));
+  if (write) PetscCall(WriteSceneXdmf(comm, fdir, frames, s.rb != nullptr, s.dfm != nullptr));
   const double run = w1 - prog.wall0;
   PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps; wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s)\n", (double)t, step, w1 - w0, wbuild - w0, run, run > 0 ? step / run : 0.0,
                         run > 0 ? step * (double)nbodies / run : 0.0));
@@ -277,7 +329,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PrintTimeSummary(comm, run));
   if (write)
     PetscCall(PetscPrintf(comm, "output: %s/balance.csv (energy and momentum balance; chart: fdem plot %s), %s/scene.xmf (%d frames of all bodies: open it in ParaView, choose the Xdmf3 reader, Apply, then play the animation)\n", dir.c_str(),
-                          dir.c_str(), dir.c_str(), (int)frames.size()));
+                          dir.c_str(), fdir.c_str(), (int)frames.size()));
   PetscCall(SimDestroy(s));
   PetscFunctionReturn(0);
 }

@@ -14,6 +14,8 @@ namespace fdem::driver {
 struct RunOptions {
   char      output[PETSC_MAX_PATH_LEN] = ""; // -fdem_output: overrides output.dir; "none": no files
   PetscBool progress                   = PETSC_TRUE;
+  char      restart[PETSC_MAX_PATH_LEN] = ""; // -restart: continue from this checkpoint
+  PetscInt  kill_in_checkpoint          = 0; // test hook: SIGKILL between writing the k-th checkpoint and renaming it
   PetscBool check_only                 = PETSC_FALSE; // fdem check
 };
 

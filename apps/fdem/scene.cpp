@@ -407,7 +407,15 @@ Scene ReadScene(const std::string &file, const char *text) {
     if (o["every"]) sc.output_every = r.Positive(o["every"], "output.every");
     if (o["balance"]) sc.output_balance = r.Positive(o["balance"], "output.balance");
   }
-  if (root["checkpoint"]) r.Fail(root["checkpoint"], "checkpoint: checkpoints and -restart are not available in this version of fdem (doc/scenes.md); remove the key");
+  if (root["checkpoint"]) {
+    const YAML::Node c = root["checkpoint"];
+    r.Keys(c, "checkpoint", {"every", "keep"});
+    sc.checkpoint_every = r.Positive(r.Required(c, "every", "checkpoint"), "checkpoint.every");
+    if (c["keep"]) {
+      sc.checkpoint_keep = r.Int(c["keep"], "checkpoint.keep");
+      if (sc.checkpoint_keep < 1) r.Fail(c["keep"], "checkpoint.keep: must be at least 1, got " + c["keep"].Scalar());
+    }
+  }
   if (root["petsc"]) sc.petsc = r.String(root["petsc"], "petsc");
   if (sc.contact.present && sc.bodies.size() + sc.packs.size() < 2) r.Fail(sc.contact.where, "contact: the scene has a single body; nothing can touch (remove contact:)");
   return sc;
@@ -429,6 +437,7 @@ const char *SceneKeysHelp() {
          "         | {convex_hull: [[x,y,z], ...]} | {pebble: {size, seed}} | {mesh: FILE.msh} | {mesh: {file, group}}\n"
          "  generate: list of {pack: {count, like: BODY, region: {lo: [..], hi: [..]}, scale: [min, max], seed}}\n"
          "  output: {dir: out, every: s, balance: s}        HDF5 frames every `every` (rigid.h5, mesh.h5, scene.xmf), balance.csv rows every `balance`\n"
+         "  checkpoint: {every: s, keep: 2}                 DIR/checkpoint.h5 (+ .1, .2, ...); continue with -restart DIR/checkpoint.h5\n"
          "  petsc: \"-options\"                              inserted before the command line (the command line wins)\n";
 }
 

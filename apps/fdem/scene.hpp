@@ -88,6 +88,8 @@ struct Scene {
   std::string           output_dir = "out";
   double                output_every = -1; // HDF5 frames; < 0: 50 frames over the run
   double                output_balance = -1; // balance.csv rows; < 0: 10 per frame
+  double                checkpoint_every = -1; // < 0: no checkpoints
+  long                  checkpoint_keep  = 2;
   std::string           petsc;
 
   const Material *FindMaterial(const std::string &name) const;
