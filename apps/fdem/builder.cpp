@@ -1,0 +1,529 @@
+// The builder: every call of the driver into the fdem library is in this file.
+#include "builder.hpp"
+
+#include <fdem.h>
+#include <fdem/contact.h>
+#include <fdem/deformable.h>
+#include <fdem/deformable_contact.h>
+#include <fdem/rigid.h>
+#include <fdem/scene.h>
+#include <fdem/ts.h>
+
+#include <petscviewerhdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace fdem::driver {
+namespace {
+
+FDEMMaterialModel ModelOf(const std::string &name) {
+  for (int i = 0; i < 3; ++i)
+    if (name == FDEMMaterialModels[i]) return (FDEMMaterialModel)i;
+  return FDEM_MATERIAL_MUNJIZA_CST; // names are checked by the reader
+}
+
+void RowMajor(const Mat3 &Q, PetscReal out[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[3 * r + c] = Q.m[r][c];
+}
+
+// The initial velocity field of the deformable bodies: v + w x (X - position) of the node's body.
+struct VelocityField {
+  const Scene            *scene;
+  std::vector<int>        node_body; // scene body index per merged node
+};
+PetscErrorCode InitialVelocity(PetscInt id, const PetscReal X[3], PetscReal out[3], void *ctx) {
+  const auto &f = *(VelocityField *)ctx;
+  const Body &b = f.scene->bodies[f.node_body[id]];
+  const Vec3  r = Vec3(X[0], X[1], X[2]) - b.position, v = b.velocity + cross(b.angular_velocity, r);
+  out[0] = v.x, out[1] = v.y, out[2] = v.z;
+  return 0;
+}
+
+PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
+  const Scene &sc = *s.scene;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidCreate(s.comm, &s.rb));
+  const PetscReal l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
+  PetscCall(FDEMRigidSetDomain(s.rb, l, h));
+  PetscCall(FDEMRigidSetGravity(s.rb, g));
+  PetscCall(FDEMRigidSetFromOptions(s.rb));
+  PetscInt moving = 0;
+  for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed;
+  if (sc.contact.present && s.rigid_bodies.size() >= 2 && moving > 0) {
+    PetscCall(FDEMContactCreate(s.rb, &s.rc));
+    PetscCall(FDEMContactSetPenalty(s.rc, sc.contact.penalty));
+    PetscCall(FDEMContactSetDissipation(s.rc, sc.contact.normal_damping, sc.contact.friction, sc.contact.tangential_viscosity));
+    if (sc.contact.buffer > 0) PetscCall(FDEMContactSetBuffer(s.rc, sc.contact.buffer));
+    PetscCall(FDEMContactSetFromOptions(s.rc));
+  }
+  for (int i : s.rigid_bodies) {
+    const Body            &b = sc.bodies[i];
+    const auto            &m = s.meshes[i];
+    std::vector<PetscReal> nodes;
+    std::vector<PetscInt>  tets;
+    for (const auto &p : m.nodes) nodes.insert(nodes.end(), {p.x, p.y, p.z});
+    for (const auto &t : m.tets) tets.insert(tets.end(), t.begin(), t.end());
+    const Material *mat     = sc.FindMaterial(b.material);
+    const PetscReal density = mat ? mat->density : 1000; // a fixed body without material: any density
+    PetscReal       Q[9], x[3] = {b.position.x, b.position.y, b.position.z}, v[3] = {b.velocity.x, b.velocity.y, b.velocity.z},
+              w[3] = {b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z};
+    RowMajor(b.rotation, Q);
+    PetscInt id;
+    PetscCall(FDEMRigidAddBodyFromMesh(s.rb, b.name.c_str(), (PetscInt)m.nodes.size(), nodes.data(), (PetscInt)m.tets.size(), tets.data(), density, x, Q, v, w, &id));
+    if (b.fixed) PetscCall(FDEMRigidFixBody(s.rb, id));
+  }
+  PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &s.nrigid));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BuildDeformable(Sim &s) {
+  const Scene                 &sc = *s.scene;
+  std::vector<PetscReal>       nodes;
+  std::vector<PetscInt>        tets, body, fixed;
+  std::vector<std::string>     names;
+  std::vector<const char *>    cnames;
+  VelocityField                vf{&sc, {}};
+  PetscMPIInt                  rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  // one merged mesh, one library body per scene body; nodes placed by position + rotation
+  for (size_t k = 0; k < s.deformable_bodies.size(); ++k) {
+    const Body    &b    = sc.bodies[s.deformable_bodies[k]];
+    const auto    &m    = s.meshes[s.deformable_bodies[k]];
+    const PetscInt base = (PetscInt)(nodes.size() / 3);
+    for (size_t n = 0; n < m.nodes.size(); ++n) {
+      const Vec3 p = b.position + b.rotation * m.nodes[n];
+      nodes.insert(nodes.end(), {p.x, p.y, p.z});
+      vf.node_body.push_back(s.deformable_bodies[k]);
+      if ((b.fix.kind == NodeSet::Below && p[b.fix.axis] <= b.fix.value) || (b.fix.kind == NodeSet::Above && p[b.fix.axis] >= b.fix.value)) fixed.push_back(base + (PetscInt)n);
+    }
+    if (b.fix.kind == NodeSet::Group) {
+      const auto it = std::find(m.body_names.begin(), m.body_names.end(), b.fix.group);
+      if (it == m.body_names.end()) {
+        std::string known;
+        for (const auto &n : m.body_names) known += (known.empty() ? "" : ", ") + n;
+        SETERRQ(s.comm, PETSC_ERR_USER_INPUT, "%s: body '%s'.fix.group: the mesh has no physical volume '%s' (it has: %s)", b.fix.where.c_str(), b.name.c_str(), b.fix.group.c_str(), known.c_str());
+      }
+      const int g = (int)(it - m.body_names.begin());
+      for (size_t e = 0; e < m.tets.size(); ++e)
+        if (m.body[e] == g)
+          for (int c : m.tets[e]) fixed.push_back(base + c);
+    }
+    for (size_t e = 0; e < m.tets.size(); ++e) {
+      for (int c : m.tets[e]) tets.push_back(base + c);
+      body.push_back((PetscInt)k);
+    }
+    names.push_back(b.name);
+  }
+  for (const auto &n : names) cnames.push_back(n.c_str());
+  s.ntets  = (PetscInt)body.size();
+  s.nnodes = (PetscInt)(nodes.size() / 3);
+  PetscCall(FDEMDeformableCreate(s.comm, &s.dfm));
+  std::vector<std::string> added;
+  for (int i : s.deformable_bodies) {
+    const Material &m = *sc.FindMaterial(sc.bodies[i].material);
+    if (std::find(added.begin(), added.end(), m.name) == added.end()) {
+      PetscCall(FDEMDeformableAddMaterial(s.dfm, m.name.c_str(), m.young, m.poisson, m.density, m.damping, ModelOf(m.model)));
+      added.push_back(m.name);
+    }
+    PetscCall(FDEMDeformableSetBodyMaterial(s.dfm, sc.bodies[i].name.c_str(), m.name.c_str()));
+  }
+  const bool root = rank == 0;
+  PetscCall(FDEMDeformableSetMesh(s.dfm, root ? s.nnodes : 0, nodes.data(), root ? s.ntets : 0, tets.data(), body.data(), (PetscInt)names.size(), cnames.data()));
+  const PetscReal g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
+  PetscCall(FDEMDeformableSetGravity(s.dfm, g));
+  PetscCall(FDEMDeformableSetFromOptions(s.dfm));
+  PetscCall(FDEMDeformableSetUp(s.dfm));
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+  PetscCall(FDEMDeformableFixNodes(s.dfm, root ? (PetscInt)fixed.size() : 0, fixed.data(), &s.nfixed_nodes));
+  PetscCall(FDEMDeformableSetVelocityField(s.dfm, InitialVelocity, &vf));
+  s.ndofs += 3 * (s.nnodes - s.nfixed_nodes);
+  if (sc.contact.present && s.deformable_bodies.size() >= 2) {
+    PetscCall(FDEMDeformableContactCreate(s.dfm, &s.dc));
+    PetscCall(FDEMDeformableContactSetPenalty(s.dc, sc.contact.penalty));
+    PetscCall(FDEMDeformableContactSetDissipation(s.dc, sc.contact.normal_damping, sc.contact.friction, sc.contact.tangential_viscosity));
+    if (sc.contact.buffer > 0) PetscCall(FDEMDeformableContactSetBuffer(s.dc, sc.contact.buffer));
+    PetscCall(FDEMDeformableContactSetFromOptions(s.dc));
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+double ElementFrequency(const kernels::TetMesh &m, const Material &mat) {
+  const double E = mat.young, nu = mat.poisson, cp = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * mat.density));
+  double       hmin = 1e300;
+  for (const auto &t : m.tets) {
+    const Vec3 *p[4] = {&m.nodes[t[0]], &m.nodes[t[1]], &m.nodes[t[2]], &m.nodes[t[3]]};
+    const double V    = std::fabs(kernels::TetSignedVolume(*p[0], *p[1], *p[2], *p[3]));
+    double       amax = 0;
+    for (int f = 0; f < 4; ++f) {
+      const Vec3 &a = *p[(f + 1) % 4], &b = *p[(f + 2) % 4], &c = *p[(f + 3) % 4];
+      amax          = std::max(amax, 0.5 * norm(cross(b - a, c - a)));
+    }
+    hmin = std::min(hmin, 3 * V / amax);
+  }
+  return 2 * cp / hmin;
+}
+
+PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, Sim &s) {
+  PetscFunctionBeginUser;
+  s.comm   = comm;
+  s.scene  = &sc;
+  s.meshes = std::move(meshes);
+  // the box of every body, placed: the rigid bodies' slab domain
+  Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+  for (size_t i = 0; i < sc.bodies.size(); ++i) {
+    const Body &b = sc.bodies[i];
+    (b.model == "rigid" ? s.rigid_bodies : s.deformable_bodies).push_back((int)i);
+    for (const auto &p : s.meshes[i].nodes) {
+      const Vec3 q = b.position + b.rotation * p;
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], q[k]), hi[k] = std::max(hi[k], q[k]);
+    }
+  }
+  if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
+  for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed ? 0 : 6;
+  if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s));
+  PetscCall(FDEMSceneCreate(comm, &s.sc));
+  if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
+  if (s.dfm) PetscCall(FDEMSceneSetDeformable(s.sc, s.dfm));
+  if (sc.contact.present && s.rb && s.dfm) PetscCall(FDEMSceneSetContact(s.sc, sc.contact.penalty, sc.contact.normal_damping, sc.contact.friction, sc.contact.buffer > 0 ? sc.contact.buffer : -1));
+  PetscCall(FDEMSceneSetFromOptions(s.sc));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimSetUpTS(Sim &s, const char *scheme, PetscReal t, PetscInt step) {
+  PetscFunctionBeginUser;
+  PetscCall(TSCreate(s.comm, &s.ts));
+  PetscCall(TSSetType(s.ts, scheme));
+  PetscCall(FDEMSceneSetUpTS(s.sc, s.ts, &s.U));
+  PetscCall(TSSetTime(s.ts, t));
+  PetscCall(TSSetStepNumber(s.ts, step));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimRestore(Sim &s) {
+  PetscFunctionBeginUser;
+  PetscCall(FDEMSceneRestoreState(s.sc, s.U));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimEndTS(Sim &s) {
+  PetscFunctionBeginUser;
+  if (s.U) PetscCall(FDEMSceneRestoreState(s.sc, s.U));
+  PetscCall(VecDestroy(&s.U));
+  PetscCall(TSDestroy(&s.ts));
+  PetscFunctionReturn(0);
+}
+
+PetscBool SimNeedsMigration(const Sim &s) {
+  PetscMPIInt size;
+  MPI_Comm_size(s.comm, &size);
+  return (s.rb && size > 1) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode SimMigrate(Sim &s) {
+  PetscFunctionBeginUser;
+  if (s.rb) PetscCall(FDEMRigidMigrate(s.rb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimStableStep(Sim &s, const char *scheme, PetscReal safety, StableStep &st) {
+  const Scene   &sc = *s.scene;
+  FDEMSchemeInfo info;
+  PetscBool      found;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMSchemeInfoFind(scheme, &found, &info));
+  PetscCheck(found, s.comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "%s: time.scheme / -ts_type %s is not an fdem scheme", sc.file.c_str(), scheme);
+  st.kcrit = info.kcrit;
+  st.limit = "nothing (no deformable body, no contact): end / 1000";
+  for (int i : s.deformable_bodies) {
+    const double w = ElementFrequency(s.meshes[i], *sc.FindMaterial(sc.bodies[i].material));
+    if (w > st.omega_elements) {
+      st.omega_elements = w;
+      st.limit          = "the elements of body '" + sc.bodies[i].name + "' (2 c_p / smallest altitude)";
+    }
+  }
+  // The library's contact checks return omega_c dt / K_crit; asked at a tiny dt they print no warning.
+  const PetscReal tiny = 1e-30;
+  PetscReal       ratio;
+  if (s.rc) {
+    PetscCall(FDEMContactCheckTimeStep(s.rc, scheme, tiny, &ratio));
+    st.omega_contact = std::max(st.omega_contact, ratio * st.kcrit / tiny);
+  }
+  if (s.dc) {
+    PetscCall(FDEMDeformableContactCheckTimeStep(s.dc, scheme, tiny, &ratio));
+    st.omega_contact = std::max(st.omega_contact, ratio * st.kcrit / tiny);
+  }
+  if (sc.contact.present && s.rb && s.dfm) {
+    PetscCall(FDEMSceneCheckTimeStep(s.sc, scheme, tiny, &ratio));
+    st.omega_contact = std::max(st.omega_contact, ratio * st.kcrit / tiny);
+  }
+  if (st.omega_contact > st.omega_elements) st.limit = "contact (the penalty against the lightest body or element)";
+  const double w = std::max(st.omega_contact, st.omega_elements);
+  st.dt          = w > 0 ? safety * st.kcrit / w * (1 - 1e-9) : sc.end / 1000;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimBalance(Sim &s, Balance &b) {
+  PetscReal E[4];
+  PetscFunctionBeginUser;
+  PetscCall(FDEMSceneGetInvariants(s.sc, s.U, b.t, b.P, b.L, E)); // also copies U into the models
+  b.kinetic = E[0] + E[1];
+  b.strain  = E[2];
+  b.contact = E[3];
+  b.gravity = 0;
+  if (s.rc) {
+    FDEMContactStats st;
+    PetscCall(FDEMContactGetStats(s.rc, &st));
+    b.contact += st.energy;
+  }
+  if (s.dc) {
+    PetscReal e;
+    PetscCall(FDEMDeformableContactComputeEnergy(s.dc, nullptr, &e));
+    b.contact += e;
+  }
+  if (s.dfm) {
+    PetscReal k, str, g;
+    PetscCall(FDEMDeformableGetEnergy(s.dfm, nullptr, &k, &str, &g));
+    b.gravity += g;
+  }
+  if (s.rb) {
+    DM         sw;
+    PetscInt   n, *fixed;
+    PetscReal *x, *m, loc = 0, glob;
+    const Vec3 g = s.scene->gravity;
+    PetscCall(FDEMRigidGetDM(s.rb, &sw));
+    PetscCall(DMSwarmGetLocalSize(sw, &n));
+    PetscCall(DMSwarmGetField(sw, "x", nullptr, nullptr, (void **)&x));
+    PetscCall(DMSwarmGetField(sw, "mass", nullptr, nullptr, (void **)&m));
+    PetscCall(DMSwarmGetField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
+    for (PetscInt i = 0; i < n; ++i)
+      if (!fixed[i]) loc -= m[i] * (g.x * x[3 * i] + g.y * x[3 * i + 1] + g.z * x[3 * i + 2]);
+    PetscCall(DMSwarmRestoreField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
+    PetscCall(DMSwarmRestoreField(sw, "mass", nullptr, nullptr, (void **)&m));
+    PetscCall(DMSwarmRestoreField(sw, "x", nullptr, nullptr, (void **)&x));
+    PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPIU_REAL, MPI_SUM, s.comm));
+    b.gravity += glob;
+  }
+  b.total = b.kinetic + b.strain + b.contact + b.gravity;
+  if (!s.have_E0) {
+    s.E0      = b.total;
+    s.have_E0 = true;
+  }
+  b.dissipated = s.E0 + b.external_work - b.total;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimWriteOutput(Sim &s, const std::string &dir, PetscInt step, PetscReal t) {
+  PetscFunctionBeginUser;
+  if (s.rb) PetscCall(FDEMRigidWriteHDF5(s.rb, (dir + "/rigid").c_str(), step, t));
+  if (s.dfm) PetscCall(FDEMDeformableWriteHDF5(s.dfm, nullptr, (dir + "/mesh").c_str(), step, t));
+  PetscFunctionReturn(0);
+}
+
+
+namespace {
+// Scatter between a vector in the models' layout (local entries `local`, global index of each in
+// `index`) and the vector by id (`nat`, created here of global size N).
+PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt> &index, PetscInt N, Vec *nat, VecScatter *sc) {
+  IS is;
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPI(comm, PETSC_DECIDE, N, nat));
+  PetscCall(ISCreateGeneral(comm, (PetscInt)index.size(), index.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecScatterCreate(local, nullptr, *nat, is, sc));
+  PetscCall(ISDestroy(&is));
+  PetscFunctionReturn(0);
+}
+
+// The mesh's x and v by node id (3 per node), and the rigid state [x R v H] by body id (18 per body):
+// one by-id vector per part, in the models' layout `lx` (created here) with its scatter.
+struct Parts {
+  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr;
+  VecScatter sd = nullptr, sr = nullptr;
+  PetscErrorCode Destroy() {
+    PetscFunctionBeginUser;
+    PetscCall(VecDestroy(&r));
+    PetscCall(VecDestroy(&ndx));
+    PetscCall(VecDestroy(&ndv));
+    PetscCall(VecDestroy(&nr));
+    PetscCall(VecScatterDestroy(&sd));
+    PetscCall(VecScatterDestroy(&sr));
+    PetscFunctionReturn(0);
+  }
+};
+
+PetscErrorCode MakeParts(Sim &s, Parts &p) {
+  PetscFunctionBeginUser;
+  if (s.dfm) {
+    PetscInt        n;
+    const PetscInt *ids;
+    PetscCall(FDEMDeformableGetPositions(s.dfm, &p.dx));
+    PetscCall(FDEMDeformableGetVelocities(s.dfm, &p.dv));
+    PetscCall(FDEMDeformableGetNodeIds(s.dfm, &n, &ids));
+    std::vector<PetscInt> index(3 * n);
+    for (PetscInt i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) index[3 * i + c] = 3 * ids[i] + c;
+    PetscCall(ByIdScatter(s.comm, p.dx, index, 3 * s.nnodes, &p.ndx, &p.sd));
+    PetscCall(VecDuplicate(p.ndx, &p.ndv));
+    PetscCall(PetscObjectSetName((PetscObject)p.ndx, "mesh_x"));
+    PetscCall(PetscObjectSetName((PetscObject)p.ndv, "mesh_v"));
+  }
+  if (s.rb) {
+    DM        sw;
+    PetscInt  n, *id;
+    PetscCall(FDEMRigidGetDM(s.rb, &sw));
+    PetscCall(DMSwarmGetLocalSize(sw, &n));
+    PetscCall(VecCreateMPI(s.comm, 18 * n, PETSC_DETERMINE, &p.r));
+    std::vector<PetscInt> index(18 * n);
+    PetscCall(DMSwarmGetField(sw, "id", nullptr, nullptr, (void **)&id));
+    for (PetscInt b = 0; b < n; ++b)
+      for (int k = 0; k < 18; ++k) index[18 * b + k] = 18 * id[b] + k;
+    PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&id));
+    PetscCall(ByIdScatter(s.comm, p.r, index, 18 * s.nrigid, &p.nr, &p.sr));
+    PetscCall(PetscObjectSetName((PetscObject)p.nr, "rigid_xRvH"));
+  }
+  PetscFunctionReturn(0);
+}
+
+// Copies the swarm's x, R, v, H into r (to_vec) or back.
+PetscErrorCode RigidFields(Sim &s, Vec r, bool to_vec) {
+  DM           sw;
+  PetscInt     n;
+  PetscReal   *f[4];
+  PetscScalar *a;
+  const char  *names[4] = {"x", "R", "v", "H"};
+  const int    width[4] = {3, 9, 3, 3};
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidGetDM(s.rb, &sw));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(VecGetArray(r, &a));
+  for (int k = 0; k < 4; ++k) PetscCall(DMSwarmGetField(sw, names[k], nullptr, nullptr, (void **)&f[k]));
+  for (PetscInt b = 0; b < n; ++b)
+    for (int k = 0, o = 0; k < 4; o += width[k], ++k)
+      for (int c = 0; c < width[k]; ++c) {
+        if (to_vec) a[18 * b + o + c] = f[k][width[k] * b + c];
+        else f[k][width[k] * b + c] = a[18 * b + o + c];
+      }
+  for (int k = 0; k < 4; ++k) PetscCall(DMSwarmRestoreField(sw, names[k], nullptr, nullptr, (void **)&f[k]));
+  PetscCall(VecRestoreArray(r, &a));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscInt step, PetscReal dt) {
+  Parts       p;
+  PetscViewer v;
+  Vec         meta;
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(MakeParts(s, p));
+  PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_WRITE, &v));
+  if (s.dfm) {
+    PetscCall(VecScatterBegin(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterBegin(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecView(p.ndx, v));
+    PetscCall(VecView(p.ndv, v));
+  }
+  if (s.rb) {
+    PetscCall(RigidFields(s, p.r, true));
+    PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecView(p.nr, v));
+  }
+  PetscCall(VecCreateMPI(s.comm, rank == 0 ? 4 : 0, 4, &meta));
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  if (rank == 0) {
+    PetscCall(VecSetValue(meta, 0, t, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 1, (PetscReal)step, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 2, s.E0, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 3, dt, INSERT_VALUES));
+  }
+  PetscCall(VecAssemblyBegin(meta));
+  PetscCall(VecAssemblyEnd(meta));
+  PetscCall(VecView(meta, v));
+  PetscCall(VecDestroy(&meta));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(p.Destroy());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt) {
+  Parts       p;
+  PetscViewer v;
+  Vec         meta;
+  PetscFunctionBeginUser;
+  PetscCall(MakeParts(s, p));
+  PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_READ, &v));
+  if (s.dfm) {
+    PetscCall(VecLoad(p.ndx, v));
+    PetscCall(VecLoad(p.ndv, v));
+    PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+  }
+  if (s.rb) {
+    PetscCall(VecLoad(p.nr, v));
+    PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(RigidFields(s, p.r, false));
+  }
+  PetscMPIInt rank0;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
+  PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 4 : 0, 4, &meta)); // all on rank 0
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  PetscCall(VecLoad(meta, v));
+  {
+    const PetscScalar *m;
+    PetscReal          buf[4] = {0, 0, 0, 0};
+    PetscMPIInt        rank;
+    PetscInt           lo;
+    PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+    PetscCall(VecGetOwnershipRange(meta, &lo, nullptr));
+    PetscCall(VecGetArrayRead(meta, &m));
+    if (lo == 0) {
+      PetscInt nl;
+      PetscCall(VecGetLocalSize(meta, &nl));
+      for (PetscInt i = 0; i < nl && i < 4; ++i) buf[i] = m[i];
+    }
+    PetscCall(VecRestoreArrayRead(meta, &m));
+    PetscCallMPI(MPI_Bcast(buf, 4, MPIU_REAL, 0, s.comm));
+    *dt       = buf[3];
+    *t        = buf[0];
+    *step     = (PetscInt)std::llround(buf[1]);
+    s.E0      = buf[2];
+    s.have_E0 = true;
+  }
+  PetscCall(VecDestroy(&meta));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(p.Destroy());
+  if (s.rb) PetscCall(FDEMRigidMigrate(s.rb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimDestroy(Sim &s) {
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&s.U));
+  PetscCall(TSDestroy(&s.ts));
+  PetscCall(FDEMSceneDestroy(&s.sc));
+  if (s.dc) PetscCall(FDEMDeformableContactDestroy(&s.dc));
+  if (s.rc) PetscCall(FDEMContactDestroy(&s.rc));
+  if (s.dfm) PetscCall(FDEMDeformableDestroy(&s.dfm));
+  if (s.rb) PetscCall(FDEMRigidDestroy(&s.rb));
+  PetscFunctionReturn(0);
+}
+
+std::string RigidBodyName(const Sim &s, PetscInt id) {
+  if (id >= 0 && id < (PetscInt)s.rigid_bodies.size()) return s.scene->bodies[s.rigid_bodies[id]].name;
+  return "?";
+}
+
+} // namespace fdem::driver

@@ -1,0 +1,81 @@
+// The builder: the only file of the driver that calls the fdem library
+// (FDEMRigid, FDEMContact, FDEMDeformable, FDEMDeformableContact, FDEMScene),
+// so a change of the library's API is a local edit here. It turns a checked
+// Scene and its meshes into models and one TS, and answers the run loop's
+// questions (energies, momenta, output, migration).
+#pragma once
+#include "scene.hpp"
+
+#include <fdem/kernels/tetmesh.hpp>
+#include <petscts.h>
+
+#include <string>
+#include <vector>
+
+struct _n_FDEMRigid;
+struct _n_FDEMContact;
+struct _n_FDEMDeformable;
+struct _n_FDEMDeformableContact;
+struct _n_FDEMScene;
+
+namespace fdem::driver {
+
+// One row of out/balance.csv (see doc/scenes.md).
+struct Balance {
+  double t = 0, kinetic = 0, strain = 0, contact = 0, gravity = 0, external_work = 0, dissipated = 0, total = 0, P[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+};
+
+// What limits the time step.
+struct StableStep {
+  double      dt = 0, kcrit = 0, omega_elements = 0, omega_contact = 0;
+  std::string limit; // "elements of body B", "contact", ...
+};
+
+struct Sim {
+  MPI_Comm                      comm = MPI_COMM_NULL;
+  const Scene                  *scene = nullptr;
+  std::vector<kernels::TetMesh> meshes; // per scene body, in its shape's frame
+  _n_FDEMRigid                 *rb    = nullptr;
+  _n_FDEMContact               *rc    = nullptr; // rigid-rigid contact
+  _n_FDEMDeformable            *dfm   = nullptr;
+  _n_FDEMDeformableContact     *dc    = nullptr; // deformable-deformable contact
+  _n_FDEMScene                 *sc    = nullptr;
+  TS                            ts    = nullptr;
+  Vec                           U     = nullptr;
+  std::vector<int>              rigid_bodies, deformable_bodies; // scene body indices per model
+  PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0;
+  double                        E0    = 0; // total energy at the start (for `dissipated`)
+  bool                          have_E0 = false;
+};
+
+// Builds the models of the scene (only those it uses). Collective.
+PetscErrorCode SimBuild(MPI_Comm comm, const Scene &scene, std::vector<kernels::TetMesh> meshes, Sim &sim);
+// Creates sim.ts (type `scheme`) and sim.U from the models' stored state. Time and step as given.
+PetscErrorCode SimSetUpTS(Sim &sim, const char *scheme, PetscReal t, PetscInt step);
+// Copies sim.U back into the models, destroys the TS and U.
+PetscErrorCode SimEndTS(Sim &sim);
+// Copies sim.U into the models (keeps the TS).
+PetscErrorCode SimRestore(Sim &sim);
+// Sends rigid bodies to the ranks whose slabs hold them (between TS segments); *needed: whether a new TS is needed after it.
+PetscErrorCode SimMigrate(Sim &sim);
+PetscBool      SimNeedsMigration(const Sim &sim);
+// Stable time step of the scene for `scheme` after SimSetUpTS (safety * K_crit / omega_max).
+PetscErrorCode SimStableStep(Sim &sim, const char *scheme, PetscReal safety, StableStep &st);
+// Energy and momentum balance at the TS state (collective; b.t must be set).
+PetscErrorCode SimBalance(Sim &sim, Balance &b);
+// Appends step `step` at time t to the HDF5 + XDMF files in dir (rigid.h5/xmf, mesh.h5/xmf).
+PetscErrorCode SimWriteOutput(Sim &sim, const std::string &dir, PetscInt step, PetscReal t);
+// Checkpoint of the models' stored state (call after SimRestore/SimEndTS): one HDF5 file through
+// PETSc's viewer, with the mesh's x, v by node id, the rigid bodies' x, R, v, H by body id and
+// meta = [t, step, E0, dt]. Written by the caller to a temporary name and renamed.
+PetscErrorCode SimWriteCheckpoint(Sim &sim, const char *file, PetscReal t, PetscInt step, PetscReal dt);
+// Loads a checkpoint into the models (any rank count) and migrates the rigid bodies; gives t, step and dt.
+PetscErrorCode SimReadCheckpoint(Sim &sim, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt);
+PetscErrorCode SimDestroy(Sim &sim);
+// Names of rigid body `id` (the library's numbering) in the scene.
+std::string RigidBodyName(const Sim &sim, PetscInt id);
+
+// Element frequency 2 c_p / h_min of a mesh of a material (c_p: P-wave speed, h_min: smallest altitude).
+double ElementFrequency(const kernels::TetMesh &m, const Material &mat);
+
+} // namespace fdem::driver

@@ -1,0 +1,186 @@
+// fdem: runs a scene described in a YAML file (doc/scenes.md).
+//
+//   mpirun -n N fdem [SCENE.yaml] [PETSc options]   run SCENE (no file: the embedded default scene)
+//   fdem check SCENE.yaml [options]                 validate and summarise without running
+//   fdem plot DIR                                   DIR/balance.csv -> DIR/balance.png (matplotlib)
+//   fdem --help                                     scene keys and every option
+//
+// The scene's `petsc:` string is inserted into the options database before
+// the command line, so an option on the command line wins.
+#include "run.hpp"
+#include "scene.hpp"
+#include "shapes.hpp"
+
+#include <fdem.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <regex>
+#include <string>
+
+using namespace fdem::driver;
+
+namespace {
+
+const char *kUsage = "usage: mpirun -n N fdem [SCENE.yaml] [PETSc options]   run a scene (no file: the embedded default scene)\n"
+                     "       fdem check SCENE.yaml [options]                 validate the scene and print a summary without running\n"
+                     "       fdem plot DIR                                   chart DIR/balance.csv into DIR/balance.png (python3 + matplotlib)\n"
+                     "       fdem --help                                     this text, the scene keys and every option\n";
+
+const char *kPlot = R"PY(
+import csv, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/balance.csv")))
+t = [float(r["time"]) for r in rows]
+fig, ax = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+for k in ["kinetic", "strain", "contact", "gravity", "external_work", "dissipated", "total"]:
+    ax[0].plot(t, [float(r[k]) for r in rows], label=k, lw=2 if k == "total" else 1)
+ax[0].set_ylabel("energy (J)"); ax[0].legend(fontsize=8); ax[0].grid(alpha=.3)
+for k in ["px", "py", "pz"]:
+    ax[1].plot(t, [float(r[k]) for r in rows], label=k)
+ax[1].set_ylabel("momentum (kg m/s)"); ax[1].set_xlabel("time (s)"); ax[1].legend(fontsize=8); ax[1].grid(alpha=.3)
+fig.tight_layout(); fig.savefig(d + "/balance.png", dpi=120)
+print("wrote " + d + "/balance.png")
+)PY";
+
+// The library names bodies by rigid id ("bodies 3 and 5", "rigid body 3") or by
+// name ("deformable body 'slab'", "bodies 'a' and 'b'"): add the scene's names
+// and where each body is written, and start with the first body's file:line:col.
+std::string NameBodies(const Scene &sc, std::string msg) {
+  std::vector<const Body *> rigid;
+  for (const auto &b : sc.bodies)
+    if (b.model == "rigid") rigid.push_back(&b);
+  std::string first;
+  auto        by_id = [&](const std::string &id) {
+    const size_t i = std::stoul(id);
+    if (i >= rigid.size()) return id;
+    if (first.empty()) first = rigid[i]->where;
+    return id + " ('" + rigid[i]->name + "', " + rigid[i]->where + ")";
+  };
+  auto by_name = [&](const std::string &name) {
+    const Body *b = sc.FindBody(name);
+    if (!b) return "'" + name + "'";
+    if (first.empty()) first = b->where;
+    return "'" + name + "' (" + b->where + ")";
+  };
+  std::smatch m;
+  if (std::regex_search(msg, m, std::regex("bodies (\\d+) and (\\d+)"))) {
+    const std::string a = by_id(m[1]), b = by_id(m[2]);
+    msg = m.prefix().str() + "bodies " + a + " and " + b + m.suffix().str();
+  } else if (std::regex_search(msg, m, std::regex("bodies '([^']*)' and '([^']*)'"))) {
+    const std::string a = by_name(m[1]), b = by_name(m[2]);
+    msg = m.prefix().str() + "bodies " + a + " and " + b + m.suffix().str();
+  }
+  else if (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) msg = m.prefix().str() + "rigid body " + by_id(m[1]) + m.suffix().str();
+  if (std::regex_search(msg, m, std::regex("deformable body '([^']*)'"))) msg = m.prefix().str() + "deformable body " + by_name(m[1]) + m.suffix().str();
+  return (first.empty() ? sc.file : first) + ": " + msg;
+}
+
+// Reads the scene and its meshes (every rank, the same result). Returns an error message or "".
+std::string LoadScene(const char *file, Scene &sc, std::vector<fdem::kernels::TetMesh> &meshes) {
+  try {
+    sc = file ? ReadScene(file) : ReadScene("(default scene)", DefaultSceneText());
+    ExpandPacks(sc);
+    for (const auto &b : sc.bodies) meshes.push_back(ShapeMesh(b));
+  } catch (const SceneError &e) {
+    return e.what();
+  } catch (const std::exception &e) {
+    return std::string(file ? file : "(default scene)") + ": " + e.what();
+  }
+  return "";
+}
+
+PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const char *file, int *status) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  if (mode && !std::strcmp(mode, "plot")) {
+    PetscCheck(file, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "fdem plot: give the output folder, e.g. fdem plot out");
+    if (rank == 0) {
+      // the first python3 on PATH that has matplotlib (a pyenv python3 may lack it), else the system's
+      const char *python = std::system("python3 -c 'import matplotlib' > /dev/null 2>&1") == 0 ? "python3" : "/usr/bin/python3";
+      FILE       *py     = popen((std::string(python) + " - '" + file + "'").c_str(), "w");
+      PetscCheck(py, PETSC_COMM_SELF, PETSC_ERR_SYS, "fdem plot: cannot run python3");
+      std::fputs(kPlot, py);
+      *status = pclose(py) == 0 ? 0 : 1;
+    }
+    PetscCallMPI(MPI_Bcast(status, 1, MPI_INT, 0, PETSC_COMM_WORLD));
+    PetscFunctionReturn(0);
+  }
+  Scene                                sc;
+  std::vector<fdem::kernels::TetMesh> meshes;
+  const std::string                    err = LoadScene(file, sc, meshes);
+  if (!err.empty()) {
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", err.c_str()));
+    *status = 1;
+    PetscFunctionReturn(0);
+  }
+  // the scene's options first, then the command line again: the command line wins
+  if (!sc.petsc.empty()) {
+    std::string cl;
+    for (int i = first; i < argc; ++i) cl += std::string(" ") + argv[i];
+    PetscCall(PetscOptionsInsertString(nullptr, sc.petsc.c_str()));
+    PetscCall(PetscOptionsInsertString(nullptr, cl.c_str()));
+  }
+  RunOptions o;
+  o.check_only = mode && !std::strcmp(mode, "check") ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(RunOptionsFromCommandLine(PETSC_COMM_WORLD, o));
+  const PetscErrorCode ierr = RunScene(PETSC_COMM_WORLD, sc, std::move(meshes), o);
+  if (ierr) {
+    const char *text;
+    char       *specific = nullptr;
+    PetscErrorMessage(ierr, &text, &specific);
+    const std::string msg = NameBodies(sc, specific && specific[0] ? specific : (text ? text : "unknown error"));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s\n", msg.c_str()));
+    *status = 1;
+  }
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  // positional arguments come first: [check|plot] [SCENE|DIR]; options follow
+  int         first = 1;
+  const char *mode = nullptr, *file = nullptr;
+  bool        help = false;
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "help")) help = true;
+  if (first < argc && (!std::strcmp(argv[first], "check") || !std::strcmp(argv[first], "plot"))) mode = argv[first++];
+  if (first < argc && argv[first][0] != '-') file = argv[first++];
+  if (help) {
+    std::printf("%s\n%s\nOptions (every PETSc and fdem option; the listing below comes from checking the default scene):\n", kUsage, SceneKeysHelp());
+    std::fflush(stdout);
+  }
+  // PETSc sees the options only (and -help when asked)
+  std::vector<char *> args = {argv[0]};
+  for (int i = first; i < argc; ++i)
+    if (std::strcmp(argv[i], "--help") && std::strcmp(argv[i], "-h") && std::strcmp(argv[i], "help")) args.push_back(argv[i]);
+  static char helpopt[] = "-help", noprog[] = "-fdem_progress", no[] = "0";
+  if (help) args.insert(args.end(), {helpopt, noprog, no});
+  int    pargc = (int)args.size();
+  char **pargv = args.data();
+  PetscCall(PetscInitialize(&pargc, &pargv, nullptr, nullptr));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  PetscCall(PetscLogDefaultBegin());
+  PetscCall(FDEMInitializePackage());
+  int status = 0;
+  if (help) {
+    mode = "check";
+    file = nullptr;
+  }
+  const PetscErrorCode ierr = Main(pargc, pargv, 1, mode, file, &status);
+  if (ierr) {
+    const char *text;
+    char       *specific = nullptr;
+    PetscErrorMessage(ierr, &text, &specific);
+    PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", specific && specific[0] ? specific : text);
+    status = 1;
+  }
+  PetscCall(PetscFinalize());
+  return status;
+}

@@ -1,0 +1,337 @@
+#include "run.hpp"
+
+#include "builder.hpp"
+
+#include <petscts.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <csignal>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace fdem::driver {
+namespace {
+
+struct Progress {
+  PetscLogDouble wall0 = 0, last = 0;
+  PetscReal      end = 0;
+  PetscInt       step0 = 0, bodies = 0;
+  PetscBool      on = PETSC_TRUE, tty = PETSC_FALSE;
+  PetscMPIInt    rank = 0;
+};
+
+PetscErrorCode ProgressMonitor(TS ts, PetscInt step, PetscReal t, Vec, void *ctx) {
+  Progress      &p = *(Progress *)ctx;
+  PetscLogDouble now;
+  PetscFunctionBeginUser;
+  if (!p.on || p.rank != 0) PetscFunctionReturn(0);
+  PetscCall(PetscTime(&now));
+  if (now - p.last < (p.tty ? 1.0 : 10.0)) PetscFunctionReturn(0);
+  p.last                = now;
+  const double el       = now - p.wall0, frac = p.end > 0 ? t / p.end : 1;
+  const double rate     = el > 0 ? (step - p.step0) / el : 0;
+  const double eta      = frac > 0 ? el * (1 - frac) / frac : 0;
+  std::fprintf(stdout, "%st = %.5g s (%5.1f%%)  %.0f steps/s  %.3g body-steps/s  ETA %.0f s%s", p.tty ? "\r" : "", (double)t, 100 * frac, rate, rate * p.bodies, eta, p.tty ? "   " : "\n");
+  std::fflush(stdout);
+  (void)ts;
+  PetscFunctionReturn(0);
+}
+
+// Inner <Grid ... GridType="Uniform"> ... </Grid> blocks of an XDMF file written by the library.
+std::vector<std::string> UniformGrids(const std::string &file) {
+  std::ifstream            in(file);
+  std::stringstream        ss;
+  std::vector<std::string> out;
+  ss << in.rdbuf();
+  const std::string s = ss.str();
+  size_t            pos = 0;
+  while ((pos = s.find("GridType=\"Uniform\"", pos)) != std::string::npos) {
+    const size_t b = s.rfind("<Grid", pos), e = s.find("</Grid>", pos);
+    if (b == std::string::npos || e == std::string::npos) break;
+    out.push_back(s.substr(b, e + 7 - b));
+    pos = e;
+  }
+  return out;
+}
+
+// dir/scene.xmf: one temporal collection whose every time is a spatial collection of the
+// rigid skins (rigid.h5) and the meshes (mesh.h5): ParaView opens all bodies at once.
+PetscErrorCode WriteSceneXdmf(MPI_Comm comm, const std::string &dir, const std::vector<PetscReal> &times, bool rigid, bool mesh) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank) PetscFunctionReturn(0);
+  std::vector<std::string> r, m;
+  if (rigid) r = UniformGrids(dir + "/rigid.xmf");
+  if (mesh) m = UniformGrids(dir + "/mesh.xmf");
+  FILE *fp = std::fopen((dir + "/scene.xmf").c_str(), "w");
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/scene.xmf", dir.c_str());
+  std::fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n    <Grid Name=\"scene\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+  for (size_t i = 0; i < times.size(); ++i) {
+    std::fprintf(fp, "    <Grid Name=\"frame_%zu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n      <Time Value=\"%.17g\"/>\n", i, (double)times[i]);
+    if (i < r.size()) std::fprintf(fp, "%s\n", r[i].c_str());
+    if (i < m.size()) std::fprintf(fp, "%s\n", m[i].c_str());
+    std::fprintf(fp, "    </Grid>\n");
+  }
+  std::fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+  PetscCheck(std::fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "error writing %s/scene.xmf", dir.c_str());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode WriteBalanceRow(FILE *fp, const Balance &b) {
+  PetscFunctionBeginUser;
+  if (fp) {
+    std::fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", b.t, b.kinetic, b.strain, b.contact, b.gravity, b.external_work, b.dissipated, b.total, b.P[0], b.P[1], b.P[2], b.L[0], b.L[1], b.L[2]);
+    std::fflush(fp);
+  }
+  PetscFunctionReturn(0);
+}
+
+// Time in the events that matter, summed over the main stage (rank 0's view, max over ranks).
+PetscErrorCode PrintTimeSummary(MPI_Comm comm, double wall) {
+  const char *events[] = {"TSStep", "FDEMSceneRHS", "FDEMSceneSearch", "FDEMSceneContact", "FDEMSceneHalo", "FDEMContactDetect", "FDEMContactForce", "FDEMContactHalo", "FDEMDContDetect", "FDEMDContForce", "FDEMDContGather"};
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "where the time went (max over ranks, inclusive):"));
+  for (const char *name : events) {
+    PetscLogEvent      ev = -1;
+    PetscEventPerfInfo info;
+    PetscCall(PetscLogEventGetId(name, &ev));
+    if (ev < 0) continue;
+    PetscCall(PetscLogEventGetPerfInfo(0, ev, &info));
+    double tl = info.time, tg;
+    PetscCallMPI(MPI_Allreduce(&tl, &tg, 1, MPI_DOUBLE, MPI_MAX, comm));
+    if (info.count == 0 && tg == 0) continue;
+    PetscCall(PetscPrintf(comm, " %s %.2f s (%.0f%%);", name, tg, wall > 0 ? 100 * tg / wall : 0.0));
+  }
+  PetscCall(PetscPrintf(comm, "\n"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MakeDir(MPI_Comm comm, const std::string &dir) {
+  PetscMPIInt rank;
+  int         err = 0;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    std::string path;
+    for (size_t i = 0; i <= dir.size(); ++i) {
+      if (i == dir.size() || dir[i] == '/') {
+        if (!path.empty() && mkdir(path.c_str(), 0777) != 0 && errno != EEXIST) err = 1;
+      }
+      if (i < dir.size()) path += dir[i];
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "cannot create the output folder %s", dir.c_str());
+  PetscFunctionReturn(0);
+}
+
+// The TS options of every segment: the scene's step and end, then the options database (the command line wins).
+PetscErrorCode ConfigureTS(Sim &s, PetscReal dt, PetscReal end) {
+  PetscFunctionBeginUser;
+  PetscCall(TSSetTimeStep(s.ts, dt));
+  PetscCall(TSSetMaxTime(s.ts, end));
+  PetscCall(TSSetExactFinalTime(s.ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSSetFromOptions(s.ts));
+  PetscFunctionReturn(0);
+}
+
+// Writes DIR/checkpoint.h5 atomically: the file is written as checkpoint.h5.tmp and renamed
+// over the previous one, which is first kept as checkpoint.1.h5 (a hard link, so that a
+// checkpoint.h5 exists at every moment); older ones shift to .2, .3, ... up to `keep` files.
+PetscErrorCode WriteCheckpoint(Sim &s, const std::string &dir, long keep, PetscReal t, PetscInt step, PetscReal dt, bool kill) {
+  PetscMPIInt       rank;
+  const std::string ck = dir + "/checkpoint.h5", tmp = ck + ".tmp";
+  int               err = 0;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(SimWriteCheckpoint(s, tmp.c_str(), t, step, dt));
+  PetscCallMPI(MPI_Barrier(s.comm));
+  if (kill) raise(SIGKILL);
+  if (rank == 0) {
+    auto name = [&](long k) { return dir + "/checkpoint." + std::to_string(k) + ".h5"; };
+    for (long k = keep - 1; k >= 2; --k) std::rename(name(k - 1).c_str(), name(k).c_str());
+    if (keep >= 2 && access(ck.c_str(), F_OK) == 0) {
+      unlink(name(1).c_str());
+      if (link(ck.c_str(), name(1).c_str()) != 0) err = 1;
+    }
+    if (std::rename(tmp.c_str(), ck.c_str()) != 0) err = 1;
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "cannot rename the checkpoint %s into %s", tmp.c_str(), ck.c_str());
+  PetscFunctionReturn(0);
+}
+
+} // namespace
+
+PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "fdem driver (scene keys: fdem --help)", "fdem");
+  PetscCall(PetscOptionsString("-fdem_output", "output folder (overrides output.dir of the scene; none: write nothing)", "", o.output, o.output, sizeof(o.output), nullptr));
+  PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
+  PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
+  PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, const RunOptions &o) {
+  Sim            s;
+  PetscMPIInt    rank, size;
+  PetscLogDouble w0, w1, wbuild;
+  char           scheme[64];
+  PetscBool      flg;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscTime(&w0));
+  PetscCall(PetscStrncpy(scheme, sc.scheme.c_str(), sizeof(scheme)));
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-ts_type", scheme, sizeof(scheme), &flg)); // the TS's own option (TSSetFromOptions lists it)
+  PetscCall(SimBuild(comm, sc, std::move(meshes), s));
+  PetscReal t = 0, dt_restart = 0;
+  PetscInt  step = 0;
+  if (o.restart[0]) {
+    PetscCall(SimReadCheckpoint(s, o.restart, &t, &step, &dt_restart));
+    PetscCall(PetscPrintf(comm, "restart from %s: t = %.6g s, step %" PetscInt_FMT "\n", o.restart, (double)t, step));
+  }
+  PetscCall(SimSetUpTS(s, scheme, t, step));
+  StableStep st;
+  PetscCall(SimStableStep(s, scheme, sc.safety, st));
+  PetscReal dt = dt_restart > 0 ? dt_restart : sc.dt > 0 ? sc.dt : st.dt, end = sc.end;
+  PetscCall(ConfigureTS(s, dt, end));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
+  PetscCall(TSGetMaxTime(s.ts, &end));
+  PetscCall(PetscTime(&wbuild));
+  const PetscInt nbodies = (PetscInt)sc.bodies.size();
+  PetscCall(PetscPrintf(comm, "%s%s%s: %d bodies (%d rigid, %d deformable), %" PetscInt_FMT " tetrahedra, %" PetscInt_FMT " nodes (%" PetscInt_FMT " fixed), %" PetscInt_FMT " degrees of freedom, %d ranks\n", sc.file.c_str(),
+                        sc.title.empty() ? "" : " -- ", sc.title.c_str(), (int)nbodies, (int)s.rigid_bodies.size(), (int)s.deformable_bodies.size(), s.ntets, s.nnodes, s.nfixed_nodes, s.ndofs, (int)size));
+  PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s; limited by %s); end %.4g s\n", (double)dt, sc.dt > 0 ? "from the scene" : "auto",
+                        std::max(st.omega_elements, st.omega_contact) > 0 ? st.kcrit / std::max(st.omega_elements, st.omega_contact) : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, st.limit.c_str(), (double)end));
+  const PetscInt nsteps = std::max<PetscInt>(1, (PetscInt)std::ceil(end / dt * (1 - 1e-12)));
+  if (o.check_only) {
+    // time a few steps on a copy of the state
+    Vec            U0;
+    PetscLogDouble t0, t1;
+    PetscLogDouble mem;
+    const PetscInt probe = 3;
+    PetscCall(VecDuplicate(s.U, &U0));
+    PetscCall(VecCopy(s.U, U0));
+    PetscCall(TSSetMaxSteps(s.ts, 1));
+    PetscCall(TSSolve(s.ts, s.U));
+    PetscCall(PetscTime(&t0));
+    PetscCall(TSSetMaxSteps(s.ts, 1 + probe));
+    PetscCall(TSSolve(s.ts, s.U));
+    PetscCall(PetscTime(&t1));
+    PetscCall(VecCopy(U0, s.U));
+    PetscCall(VecDestroy(&U0));
+    PetscCall(PetscMemoryGetCurrentUsage(&mem));
+    PetscLogDouble memg;
+    PetscCallMPI(MPI_Allreduce(&mem, &memg, 1, MPI_DOUBLE, MPI_SUM, comm));
+    const double per = (t1 - t0) / probe;
+    PetscCall(PetscPrintf(comm, "check: %" PetscInt_FMT " steps to the end; measured %.3g s per step (%d steps after one warm-up) -> about %.3g s for the run; memory in use %.1f MB (all ranks, resident)\n", nsteps, per, (int)probe, per * nsteps, memg / 1048576.0));
+    PetscCall(PetscPrintf(comm, "check: the scene is valid\n"));
+    PetscCall(SimDestroy(s));
+    PetscFunctionReturn(0);
+  }
+
+  // output
+  const std::string dir   = o.output[0] ? std::string(o.output) : sc.output_dir;
+  const bool        write = dir != "none";
+  // a restarted run appends to balance.csv and writes its frames into DIR/restart_<step>
+  const std::string fdir  = o.restart[0] ? dir + "/restart_" + std::to_string((long long)step) : dir;
+  FILE             *bal   = nullptr;
+  if (write) {
+    PetscCall(MakeDir(comm, fdir));
+    if (rank == 0) {
+      const std::string file = dir + "/balance.csv";
+      const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
+      bal                    = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
+      PetscCheck(bal, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/balance.csv", dir.c_str());
+      if (head) std::fprintf(bal, "time,kinetic,strain,contact,gravity,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
+    }
+  }
+  // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
+  const PetscInt fsteps = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 50);
+  const PetscInt every  = sc.output_balance > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_balance / dt)) : std::max<PetscInt>(1, fsteps / 10);
+  const PetscInt fevery = std::max<PetscInt>(1, fsteps / every) * every;
+  const PetscInt csteps = sc.checkpoint_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.checkpoint_every / dt / every)) * every : 0;
+  std::vector<PetscReal> frames;
+  Balance                b;
+  b.t = t;
+  PetscCall(SimBalance(s, b));
+  const Balance first = b;
+  if (!o.restart[0]) PetscCall(WriteBalanceRow(bal, b));
+  if (write) {
+    PetscCall(SimWriteOutput(s, fdir, step, t));
+    frames.push_back(t);
+  }
+  Progress prog;
+  prog.end    = end;
+  prog.bodies = nbodies;
+  prog.on     = o.progress;
+  prog.rank   = rank;
+  prog.tty    = isatty(fileno(stdout)) ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscTime(&prog.wall0));
+  prog.last = prog.wall0;
+  PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+  double   maxdP        = 0;
+  PetscInt ncheckpoints = 0;
+  while (step < nsteps && t < end * (1 - 1e-12)) {
+    TSConvergedReason reason;
+    PetscCall(TSSetMaxSteps(s.ts, std::min(nsteps, step + every)));
+    PetscCall(TSSolve(s.ts, s.U));
+    PetscCall(TSGetConvergedReason(s.ts, &reason));
+    PetscCall(TSGetTime(s.ts, &t));
+    PetscCall(TSGetStepNumber(s.ts, &step));
+    PetscCheck(reason >= 0, comm, PETSC_ERR_NOT_CONVERGED, "%s: the time stepping failed at t = %g, step %" PetscInt_FMT " (%s); try a smaller time.dt or time.safety", sc.file.c_str(), (double)t, step, TSConvergedReasons[reason]);
+    b.t = t;
+    PetscCall(SimBalance(s, b));
+    for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
+    PetscCall(WriteBalanceRow(bal, b));
+    const bool last = step >= nsteps || t >= end * (1 - 1e-12);
+    if (write && (step % fevery == 0 || last)) {
+      PetscCall(SimWriteOutput(s, fdir, step, t));
+      frames.push_back(t);
+    }
+    // at a checkpoint the TS ends (and a new one starts): a restarted run does the same steps
+    const bool checkpoint = write && csteps > 0 && (step % csteps == 0 || last);
+    if (checkpoint) {
+      PetscCall(SimEndTS(s));
+      ++ncheckpoints;
+      PetscCall(WriteCheckpoint(s, dir, sc.checkpoint_keep, t, step, dt, ncheckpoints == o.kill_in_checkpoint));
+      if (!last) {
+        PetscCall(SimMigrate(s));
+        PetscCall(SimSetUpTS(s, scheme, t, step));
+        PetscCall(ConfigureTS(s, dt, end));
+        PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+      }
+    } else if (SimNeedsMigration(s) && !last) {
+      PetscCall(SimEndTS(s));
+      PetscCall(SimMigrate(s));
+      PetscCall(SimSetUpTS(s, scheme, t, step));
+      PetscCall(ConfigureTS(s, dt, end));
+      PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+    }
+  }
+  PetscCall(PetscTime(&w1));
+  if (prog.on && prog.tty && rank == 0) std::fprintf(stdout, "\n");
+  if (bal) std::fclose(bal);
+  if (write) PetscCall(WriteSceneXdmf(comm, fdir, frames, s.rb != nullptr, s.dfm != nullptr));
+  const double run = w1 - prog.wall0;
+  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps; wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s)\n", (double)t, step, w1 - w0, wbuild - w0, run, run > 0 ? step / run : 0.0,
+                        run > 0 ? step * (double)nbodies / run : 0.0));
+  PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
+                        b.dissipated, maxdP));
+  PetscCall(PrintTimeSummary(comm, run));
+  if (write)
+    PetscCall(PetscPrintf(comm, "output: %s/balance.csv (energy and momentum balance; chart: fdem plot %s), %s/scene.xmf (%d frames of all bodies: open it in ParaView, choose the Xdmf3 reader, Apply, then play the animation)\n", dir.c_str(),
+                          dir.c_str(), fdir.c_str(), (int)frames.size()));
+  PetscCall(SimDestroy(s));
+  PetscFunctionReturn(0);
+}
+
+} // namespace fdem::driver

@@ -1,0 +1,110 @@
+// The scene as data: what a scene file (YAML, doc/scenes.md) describes, read
+// and checked by ReadScene. Pure C++ (yaml-cpp, no PETSc): every rank reads
+// the same file and reaches the same result, so an error is collective.
+#pragma once
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fdem/kernels/vec3.hpp>
+
+namespace fdem::driver {
+
+using kernels::Mat3;
+using kernels::Vec3;
+
+// A user error in the scene: the message starts with "file:line:col: ".
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Where a value was written: "file:line:col" (1-based), for messages.
+using Where = std::string;
+
+struct Material {
+  std::string name, model = "munjiza_cst";
+  double      density = 0, young = 0, poisson = 0, damping = 0;
+  Where       where;
+};
+
+enum class ShapeKind { Box, Sphere, Ellipsoid, Cylinder, ConvexHull, Pebble, Mesh };
+
+struct Shape {
+  ShapeKind         kind = ShapeKind::Box;
+  Vec3              size;             // box: full lengths; ellipsoid: semi-axes
+  double            radius = 0, height = 0; // sphere, cylinder; pebble: radius = mean long semi-axis
+  long              seed = 1;         // pebble
+  std::vector<Vec3> points;           // convex_hull
+  std::string       file, group;      // mesh (file resolved against the scene's folder)
+  Where             where;
+};
+
+// A node set of a deformable body, by region of the reference positions or by Gmsh physical group.
+struct NodeSet {
+  enum Kind { None, Below, Above, Group } kind = None;
+  int         axis  = 2;
+  double      value = 0;
+  std::string group;
+  Where       where;
+};
+
+struct Body {
+  std::string name, model, material; // model: rigid | deformable
+  Shape       shape;
+  double      resolution = -1;      // element size (< 0: default, see shapes.cpp)
+  Vec3        position, velocity, angular_velocity;
+  Mat3        rotation = Mat3::identity();
+  bool        fixed    = false;     // rigid
+  NodeSet     fix;                  // deformable
+  Where       where;
+};
+
+struct Pack {
+  long        count = 0, seed = 1;
+  std::string like;
+  Vec3        lo, hi;
+  double      scale[2] = {1, 1};
+  Where       where;
+};
+
+struct Contact {
+  bool   present = false;
+  double penalty = 0, friction = 0, normal_damping = 0, tangential_viscosity = 0, buffer = -1; // buffer < 0: auto
+  Where  where;
+};
+
+struct Scene {
+  std::string           file, dir; // the scene file and its folder
+  std::string           title;
+  Vec3                  gravity;
+  double                end = 0, dt = -1, safety = 0.5; // dt < 0: auto
+  std::string           scheme = "cd";
+  Where                 time_where, scheme_where;
+  std::vector<Material> materials;
+  Contact               contact;
+  std::vector<Body>     bodies; // after ReadScene: the listed bodies, then the generated ones
+  std::vector<Pack>     packs;
+  std::string           output_dir = "out";
+  double                output_every = -1; // HDF5 frames; < 0: 50 frames over the run
+  double                output_balance = -1; // balance.csv rows; < 0: 10 per frame
+  double                checkpoint_every = -1; // < 0: no checkpoints
+  long                  checkpoint_keep  = 2;
+  std::string           petsc;
+
+  const Material *FindMaterial(const std::string &name) const;
+  const Body     *FindBody(const std::string &name) const;
+  bool            Has(const char *model) const;
+};
+
+// Reads and checks a scene. `text` (if not null) is the file's content and
+// `file` only names it (the embedded default scene). Throws SceneError.
+Scene ReadScene(const std::string &file, const char *text = nullptr);
+
+// The scene keys with a one-line description each, for --help.
+const char *SceneKeysHelp();
+
+// The embedded default scene (default_scene.yaml).
+const char *DefaultSceneText();
+
+} // namespace fdem::driver
