@@ -3,6 +3,7 @@
 #include <fdem/kernels/massprops.hpp>
 
 #include <fdem/kernels/error.hpp>
+#include <fdem/kernels/tetmesh.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -181,13 +182,8 @@ MassProperties ComputeMassProperties(const std::vector<Vec3> &nodes, const std::
   // The same tetrahedron twice: named as such (a lone one's faces would pair
   // up with its copy's and pass the boundary check below with twice the mass).
   {
-    std::map<Tet, std::size_t> seen;
-    for (std::size_t e = 0; e < tets.size(); ++e) {
-      Tet key = tets[e];
-      std::sort(key.begin(), key.end());
-      const auto ins = seen.try_emplace(key, e);
-      if (!ins.second) Fail(body_name, TetString(nodes, tets[e], e) + " repeats tetrahedron " + std::to_string(ins.first->second));
-    }
+    const auto rep = FirstRepeatedTet(tets);
+    if (rep[1] < tets.size()) Fail(body_name, TetString(nodes, tets[rep[1]], rep[1]) + " repeats tetrahedron " + std::to_string(rep[0]));
   }
   // Closed 2-manifold boundary.
   {

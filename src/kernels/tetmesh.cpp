@@ -383,20 +383,9 @@ struct RawTet {
 // The earliest repeated tetrahedron in file order (same four nodes in any
 // order) is an error naming both elements and their lines.
 void CheckRepeatedTets(const MshReader &r, const std::vector<RawTet> &raw) {
-  std::vector<std::pair<std::array<long, 4>, std::size_t>> key(raw.size());
-  for (std::size_t t = 0; t < raw.size(); ++t) {
-    key[t] = {raw[t].nodes, t};
-    std::sort(key[t].first.begin(), key[t].first.end());
-  }
-  std::sort(key.begin(), key.end());
-  std::size_t first = 0, second = raw.size();
-  for (std::size_t i = 1; i < key.size(); ++i)
-    if (key[i].first == key[i - 1].first && (second == raw.size() || key[i].second < second)) {
-      std::size_t j = i - 1;
-      while (j > 0 && key[j - 1].first == key[i].first) --j;  // first occurrence of this tetrahedron
-      first = key[j].second;
-      second = key[i].second;
-    }
+  std::vector<std::array<long, 4>> nodes(raw.size());
+  for (std::size_t t = 0; t < raw.size(); ++t) nodes[t] = raw[t].nodes;
+  const auto [first, second] = FirstRepeatedTet(nodes);
   if (second == raw.size()) return;
   const RawTet &a = raw[first], &b = raw[second];
   r.FailAt(b.line, "element " + std::to_string(b.tag) + " repeats element " + std::to_string(a.tag) + " (line " +
@@ -802,5 +791,24 @@ TetMesh ReadGmsh(const std::string &path) {
   if (!f) throw InputError(path + ": cannot open file");
   return ParseGmsh(f, path);
 }
+
+template <class Index>
+std::array<std::size_t, 2> FirstRepeatedTet(const std::vector<std::array<Index, 4>> &tets) {
+  const std::size_t n = tets.size();
+  std::vector<std::pair<std::array<Index, 4>, std::size_t>> key(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    key[t] = {tets[t], t};
+    std::sort(key[t].first.begin(), key[t].first.end());
+  }
+  std::sort(key.begin(), key.end());
+  std::array<std::size_t, 2> best{n, n};  // earliest second copy wins
+  for (std::size_t i = 1, j = 0; i < n; ++i) {
+    if (key[i].first != key[j].first) { j = i; continue; }  // j: first copy of this run (smallest position)
+    if (key[i].second < best[1]) best = {key[j].second, key[i].second};
+  }
+  return best;
+}
+template std::array<std::size_t, 2> FirstRepeatedTet(const std::vector<std::array<int, 4>> &);
+template std::array<std::size_t, 2> FirstRepeatedTet(const std::vector<std::array<long, 4>> &);
 
 } // namespace fdem::kernels

@@ -7,6 +7,7 @@
 #include <fdem/kernels/error.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +76,15 @@ void fdem::model::deformable::ValidateInput(FDEMDeformable d, std::vector<int> &
     if (!found) throw InputError("FDEMDeformableSetBodyMaterial names body '" + kv.first + "', which is not in the mesh");
   }
   const int nn = (int)M.nodes.size();
+  for (int i = 0; i < nn; ++i)
+    if (!(std::isfinite(M.nodes[i].x) && std::isfinite(M.nodes[i].y) && std::isfinite(M.nodes[i].z))) {
+      std::ostringstream o;
+      o << "node " << i << " has a non-finite coordinate (" << M.nodes[i].x << ", " << M.nodes[i].y << ", " << M.nodes[i].z << ")";
+      throw InputError(o.str());
+    }
+  const auto rep = fdem::kernels::FirstRepeatedTet(M.tets);
+  if (rep[1] < M.tets.size())
+    throw InputError("element " + std::to_string(rep[1]) + " of body '" + M.body_names[M.body[rep[1]]] + "' repeats element " + std::to_string(rep[0]) + ": the same tetrahedron given twice");
   for (size_t t = 0; t < M.tets.size(); ++t) {
     const auto &T = M.tets[t];
     const int   b = M.body[t];

@@ -6,6 +6,7 @@
 #include <fdem/kernels/cst.hpp>
 #include <fdem/kernels/error.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -55,6 +56,26 @@ int main(int argc, char **argv) {
   PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
   PetscCall(TwoTets(d, true, false));
   PetscCall(ExpectError("inverted tetrahedron", {"element 1", "body 'pebble'", "negative"}, [&]() { return FDEMDeformableSetUp(d); }));
+
+  // the same tetrahedron twice (in-memory mesh): named, not a doubled mass
+  PetscCall(Fresh(&d));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  {
+    const PetscReal X[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const PetscInt  T[] = {0, 1, 2, 3, 1, 0, 3, 2};
+    PetscCall(FDEMDeformableSetMesh(d, 4, X, 2, T, nullptr, 1, nullptr));
+  }
+  PetscCall(ExpectError("repeated tetrahedron", {"element 1", "repeats element 0"}, [&]() { return FDEMDeformableSetUp(d); }));
+
+  // a non-finite coordinate (in-memory mesh): named, not "reference volume nan"
+  PetscCall(Fresh(&d));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  {
+    const PetscReal X[] = {0, 0, 0, 1, 0, 0, 0, NAN, 0, 0, 0, 1};
+    const PetscInt  T[] = {0, 1, 2, 3};
+    PetscCall(FDEMDeformableSetMesh(d, 4, X, 1, T, nullptr, 1, nullptr));
+  }
+  PetscCall(ExpectError("non-finite coordinate", {"node 2", "non-finite"}, [&]() { return FDEMDeformableSetUp(d); }));
 
   // a zero-volume tetrahedron
   PetscCall(Fresh(&d));

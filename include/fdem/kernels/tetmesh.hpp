@@ -26,6 +26,12 @@ struct TetMesh {
   int NumBodies() const { return static_cast<int>(body_names.size()); }
 };
 
+// The earliest repeated tetrahedron (the same four nodes in any order), in the
+// order given: {first, second} with first < second the positions of the two
+// copies, or {n, n} (n = tets.size()) when no tetrahedron repeats. O(n log n).
+template <class Index>
+std::array<std::size_t, 2> FirstRepeatedTet(const std::vector<std::array<Index, 4>> &tets);
+
 // Signed volume det[b-a, c-a, d-a] / 6.
 double TetSignedVolume(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &d);
 double TetSignedVolume(const TetMesh &mesh, int tet);
