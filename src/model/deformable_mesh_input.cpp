@@ -163,6 +163,7 @@ PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable d, const char *path)
       return 0;
     },
     PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableSetMeshFromGmsh: "));
+  for (const auto &w : d->mesh.warnings) PetscCall(PetscPrintf(PETSC_COMM_SELF, "WARNING: %s\n", w.c_str())); // rank 0 holds the mesh
   PetscCall(FinishMesh(d));
   PetscFunctionReturn(0);
 }
