@@ -9,7 +9,7 @@
 //     top than -max_depth (default 20% of the slab's element height);
 //   - with -free: total linear momentum conserved to 1e-12 relative.
 // Options: -npebbles 3 -T 0.03 -dt 2.5e-5 -ts_type cd|pefrl|... -output base -output_every 20
-//          -fdem_scene_contact_penalty (default 5e8) -fdem_scene_contact_damping/_friction
+//          -fdem_contact_penalty (default 5e8) -fdem_contact_damping/_friction
 #include <fdem.h>
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>

@@ -82,7 +82,8 @@ int main(int argc, char **argv) {
   PetscCall(TSMonitorSet(ts, Record, &rec, nullptr));
   PetscCall(TSSetFromOptions(ts));
   PetscCall(TSSolve(ts, U));
-  PetscCall(FDEMRigidRestoreState(rb, ts, &U));
+  PetscCall(FDEMRigidRestoreState(rb, U));
+  PetscCall(VecDestroy(&U));
 
   // the error on the rank that holds the body, then everywhere
   double err = 0;

@@ -62,8 +62,7 @@ struct _n_FDEMDeformable {
   fdem::kernels::TetMesh             mesh;
   bool                               has_mesh = false;
   PetscReal                          g[3] = {0, 0, 0};
-  FDEMDeformableForceFn              ext = nullptr;
-  void                              *ext_ctx = nullptr;
+  std::vector<std::pair<FDEMDeformableForceFn, void *>> ext; // force terms, added in order
   PetscInt                           partition = kPartMetis;
   PetscBool                          view = PETSC_FALSE;
   // after set-up (all ranks)
@@ -377,7 +376,7 @@ PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *
   PetscCall(VecRestoreArray(d->floc, &fl));
   if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));
-  if (d->ext) PetscCall(d->ext(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, d->ext_ctx));
+  for (const auto &e : d->ext) PetscCall(e.first(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, e.second));
   PetscCall(VecPlaceArray(d->gwork, fo));
   PetscCall(VecSet(d->gwork, 0));
   PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, d->gwork));
@@ -400,7 +399,7 @@ PetscErrorCode RHSMomentum(TS, PetscReal t, Vec Xq, Vec A, void *ctx) {
   PetscScalar       *a;
   Vec                U = nullptr;
   PetscFunctionBegin;
-  const bool need_v = d->viscous || d->ext;
+  const bool need_v = d->viscous || !d->ext.empty();
   if (need_v && d->ts) {
     PetscCall(TSGetSolution(d->ts, &U));
     PetscCall(VecGetArrayRead(U, &u));
@@ -643,12 +642,20 @@ PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable d, const PetscReal g[3]) 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
+PetscErrorCode FDEMDeformableAddForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
   PetscFunctionBegin;
-  d->ext     = fn;
-  d->ext_ctx = ctx;
+  PetscCheck(fn, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableAddForce: the force function is NULL");
+  d->ext.emplace_back(fn, ctx);
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
+  PetscFunctionBegin;
+  d->ext.erase(std::remove(d->ext.begin(), d->ext.end(), std::make_pair(fn, ctx)), d->ext.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) { return FDEMDeformableAddForce(d, fn, ctx); }
 
 PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable d) {
   PetscInt  three = 3;
@@ -1202,13 +1209,6 @@ PetscErrorCode fdem::model::DeformableAcceleration(FDEMDeformable d, PetscReal t
     for (int c = 0; c < 3; ++c) a[3 * k + c] = a[3 * k + c] * mi[3 * k + c] + d->g[c];
   }
   PetscCall(VecRestoreArrayRead(d->minv, &mi));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode fdem::model::DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx) {
-  PetscFunctionBegin;
-  *fn  = d->ext;
-  *ctx = d->ext_ctx;
   PetscFunctionReturn(0);
 }
 
