@@ -75,7 +75,14 @@ std::string NameBodies(const Scene &sc, std::string msg) {
     const std::string a = by_name(m[1]), b = by_name(m[2]);
     msg = m.prefix().str() + "bodies " + a + " and " + b + m.suffix().str();
   }
-  else if (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) msg = m.prefix().str() + "rigid body " + by_id(m[1]) + m.suffix().str();
+  else {
+    std::string done; // every "rigid body N" (the contact engine names each side by its kind)
+    while (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) {
+      done += m.prefix().str() + "rigid body " + by_id(m[1]);
+      msg = m.suffix().str();
+    }
+    msg = done + msg;
+  }
   if (std::regex_search(msg, m, std::regex("deformable body '([^']*)'"))) msg = m.prefix().str() + "deformable body " + by_name(m[1]) + m.suffix().str();
   return (first.empty() ? sc.file : first) + ": " + msg;
 }

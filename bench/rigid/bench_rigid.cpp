@@ -92,7 +92,8 @@ PetscErrorCode Run(FDEMRigid rb, const char *scheme, PetscReal h, PetscReal T, P
   res->wall = t1 - t0;
   PetscCall(TSGetStepNumber(ts, &res->steps));
   PetscCall(FDEMTSGetForceEvaluations(ts, &res->nforce));
-  PetscCall(FDEMRigidRestoreState(rb, ts, &U));
+  PetscCall(FDEMRigidRestoreState(rb, U));
+  PetscCall(VecDestroy(&U));
   PetscCall(TSDestroy(&ts));
   PetscFunctionReturn(0);
 }

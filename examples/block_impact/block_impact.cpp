@@ -12,7 +12,7 @@
 //   -ts_type cd|pefrl|... -fdem_free -fdem_max_depth -fdem_output DIR (default
 //   out/block_impact: pebbles.h5/.xmf, slab.h5/.xmf; none: no files) -fdem_output_every 20
 //   (steps between outputs and between the checks' samples)
-//   -fdem_scene_contact_penalty (default 5e8) -fdem_scene_contact_damping/_friction
+//   -fdem_contact_penalty (default 5e8) -fdem_contact_damping/_friction
 #include <fdem.h>
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>

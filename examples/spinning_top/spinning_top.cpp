@@ -88,7 +88,8 @@ PetscErrorCode RunExample(int *status) {
   PetscCall(ex::GetTimeSettings(ts, &dt, &T, nullptr));
   PetscCall(TSSolve(ts, U));
   PetscCall(TSGetTime(ts, &T));
-  PetscCall(FDEMRigidRestoreState(rb, ts, &U));
+  PetscCall(FDEMRigidRestoreState(rb, U));
+  PetscCall(VecDestroy(&U));
 
   // the error on the rank that holds the body, then everywhere
   double err = 0;

@@ -22,13 +22,18 @@ extern "C" {
 
 typedef struct _n_FDEMContact *FDEMContact;
 
+/* The statistics of every contact object (FDEMContact, FDEMDeformableContact,
+   FDEMScene): one meaning each, and every count and sum is over all ranks. */
 typedef struct {
   PetscInt  searches;        /* cell searches (re-searches) so far */
   PetscInt  evaluations;     /* contact force evaluations */
-  PetscInt  candidate_pairs; /* tetrahedron pairs from the last search (this rank) */
-  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation (this rank) */
-  PetscInt  ghosts;          /* ghost bodies on this rank */
-  PetscReal energy;          /* overlap energy at the last evaluation (all ranks) */
+  PetscInt  primitives;      /* contact tetrahedra lent by the bodies (rigid skins, mesh cells) */
+  PetscInt  ghosts;          /* ghost copies of contact tetrahedra held by other ranks (last search) */
+  PetscInt  candidate_pairs; /* tetrahedron pairs from the last search */
+  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation */
+  PetscReal energy;          /* overlap energy at the last evaluation */
+  PetscReal buffer;          /* search buffer in use (0 before the first evaluation with an automatic buffer) */
+  PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
 } FDEMContactStats;
 
 /* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve). */

@@ -76,6 +76,11 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm, Pe
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, const char *path);
 
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
+/* Force terms chain: each added function adds its nodal forces to floc at every force
+   evaluation, in the order added (a user's load, contact, ...); none replaces another.
+   RemoveForce removes the term (fn, ctx). SetExternalForce is AddForce under its old name. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
 /* -fdem_deformable_gravity gx,gy,gz
    -fdem_deformable_partition metis|simple   (simple: contiguous blocks of elements, for comparison)

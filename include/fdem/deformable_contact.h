@@ -40,6 +40,7 @@
 #ifndef FDEM_DEFORMABLE_CONTACT_H
 #define FDEM_DEFORMABLE_CONTACT_H
 
+#include <fdem/contact.h>
 #include <fdem/deformable.h>
 
 #if defined(__cplusplus)
@@ -48,15 +49,7 @@ extern "C" {
 
 typedef struct _n_FDEMDeformableContact *FDEMDeformableContact;
 
-typedef struct {
-  PetscInt  searches;        /* cell searches so far */
-  PetscInt  evaluations;     /* contact force evaluations */
-  PetscInt  surface_tets;    /* surface tetrahedra, all ranks */
-  PetscInt  ghost_tets;      /* ghost copies of other ranks' surface tetrahedra held by this rank (last search) */
-  PetscInt  candidate_pairs; /* candidate pairs of the last search, all ranks */
-  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation, all ranks */
-  PetscReal energy;          /* contact (overlap) energy at the last evaluation, all ranks */
-} FDEMDeformableContactStats;
+typedef FDEMContactStats FDEMDeformableContactStats; /* see include/fdem/contact.h */
 
 /* Collective; after FDEMDeformableSetUp. Finds the surface tetrahedra and
    installs the contact force as dfm's external force (it replaces a force

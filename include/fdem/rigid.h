@@ -36,6 +36,10 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetRotationType(FDEMRigid rb, FDEMRotationType type);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetRotationType(FDEMRigid rb, FDEMRotationType *type);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetGravity(FDEMRigid rb, const PetscReal g[3]);
+/* Force terms chain: gravity, contact (src/contact) and every function added here are
+   summed, in that order; none replaces another. SetForceFunction is AddForce under its
+   old name. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddForce(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
 /* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body. */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetDomain(FDEMRigid rb, const PetscReal lo[3], const PetscReal hi[3]);
@@ -58,8 +62,9 @@ PETSC_EXTERN PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal
 /* Sets the splits, RHS functions and drift on ts, creates the state vector
    *U from the swarm (copy) and sets it as the TS solution. */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U);
-/* Copies U back into the swarm and destroys U. */
-PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS ts, Vec *U);
+/* Copies U back into the swarm; U stays the caller's (as FDEMDeformableRestoreState and
+   FDEMSceneRestoreState: every ...RestoreState keeps the Vec). */
+PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U);
 /* Sends every body to the rank whose slab holds its centre (DMSwarmMigrate). */
 PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
 /* Solves from t0 to tfinal with steps dt (default type cd), migrating every

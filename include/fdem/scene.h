@@ -28,6 +28,7 @@
 #ifndef FDEM_SCENE_H
 #define FDEM_SCENE_H
 
+#include <fdem/contact.h>
 #include <fdem/deformable.h>
 #include <fdem/rigid.h>
 
@@ -37,18 +38,7 @@ extern "C" {
 
 typedef struct _n_FDEMScene *FDEMScene;
 
-typedef struct {
-  PetscInt  searches;        /* broad-phase searches (this rank) */
-  PetscInt  evaluations;     /* contact force evaluations */
-  PetscInt  candidate_pairs; /* (surface tet, rigid skin tet) pairs from the last search (this rank) */
-  PetscInt  active_pairs;    /* overlapping pairs at the last evaluation (all ranks) */
-  PetscInt  surface_cells;   /* mesh cells taking part in contact (all ranks) */
-  PetscReal energy;          /* contact (overlap) energy at the last evaluation (all ranks) */
-  PetscReal buffer;          /* search buffer in use */
-  PetscInt  ghost_bodies;    /* ghost copies of other ranks' rigid bodies held by this rank (last search) */
-  PetscInt  near_bodies;     /* rigid bodies (own and ghost) near this rank's mesh region, searched (last search) */
-  PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
-} FDEMSceneContactStats;
+typedef FDEMContactStats FDEMSceneContactStats; /* see include/fdem/contact.h */
 
 PETSC_EXTERN PetscErrorCode FDEMSceneCreate(MPI_Comm comm, FDEMScene *sc);
 PETSC_EXTERN PetscErrorCode FDEMSceneDestroy(FDEMScene *sc);
@@ -78,6 +68,8 @@ PETSC_EXTERN PetscErrorCode FDEMSceneSetDeformable(FDEMScene sc, FDEMDeformable 
    error naming the rigid body id, the deformable body and both elements; at
    the first force evaluation of the TS, FDEMSceneCheckTimeStep. */
 PETSC_EXTERN PetscErrorCode FDEMSceneSetContact(FDEMScene sc, PetscReal penalty, PetscReal damping, PetscReal friction, PetscReal buffer);
+/* The tangential viscosity (Pa s/m) regularising stick, as FDEMContactSetDissipation. */
+PETSC_EXTERN PetscErrorCode FDEMSceneSetContactTangentialViscosity(FDEMScene sc, PetscReal tangential_viscosity);
 PETSC_EXTERN PetscErrorCode FDEMSceneSetFromOptions(FDEMScene sc);
 
 /* Sets the splits, RHS functions, drift and solution of ts; creates *U from

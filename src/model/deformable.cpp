@@ -4,6 +4,8 @@
 // include/fdem/deformable.h and doc/deformable.md.
 #include "../util/guard.hpp"
 #include "deformable_impl.hpp"
+#include <algorithm>
+#include <utility>
 #include "deformable_object.hpp"
 
 #include "../kernels/materials/table.hpp"
@@ -88,12 +90,20 @@ PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable d, const PetscReal g[3]) 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
+PetscErrorCode FDEMDeformableAddForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
   PetscFunctionBegin;
-  d->ext     = fn;
-  d->ext_ctx = ctx;
+  PetscCheck(fn, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableAddForce: the force function is NULL");
+  d->ext.emplace_back(fn, ctx);
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) {
+  PetscFunctionBegin;
+  d->ext.erase(std::remove(d->ext.begin(), d->ext.end(), std::make_pair(fn, ctx)), d->ext.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) { return FDEMDeformableAddForce(d, fn, ctx); }
 
 PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable d) {
   PetscInt  three = 3;
@@ -239,13 +249,6 @@ PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable d, const PetscReal lo[
 
 // ---------------------------------------------------------------- internal accessors
 // Declared in src/model/deformable_impl.hpp, for the layers above (src/scene).
-PetscErrorCode fdem::model::DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx) {
-  PetscFunctionBegin;
-  *fn  = d->ext;
-  *ctx = d->ext_ctx;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode fdem::model::DeformableGetFixed(FDEMDeformable d, const std::vector<char> **fixed) {
   PetscFunctionBegin;
   *fixed = &d->fixed;

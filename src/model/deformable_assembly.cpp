@@ -48,7 +48,7 @@ PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscRe
   PetscCall(VecRestoreArray(d->floc, &fl));
   if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));
-  if (d->ext) PetscCall(d->ext(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, d->ext_ctx));
+  for (const auto &e : d->ext) PetscCall(e.first(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, e.second));
   PetscCall(VecPlaceArray(d->gwork, fo));
   PetscCall(VecSet(d->gwork, 0));
   PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, d->gwork));
@@ -93,7 +93,7 @@ PetscErrorCode RHSMomentum(TS, PetscReal t, Vec Xq, Vec A, void *ctx) {
   PetscScalar       *a;
   Vec                U = nullptr;
   PetscFunctionBegin;
-  const bool need_v = d->viscous || d->ext;
+  const bool need_v = d->viscous || !d->ext.empty();
   if (need_v && d->ts) {
     PetscCall(TSGetSolution(d->ts, &U));
     PetscCall(VecGetArrayRead(U, &u));

@@ -13,8 +13,6 @@ namespace fdem::model {
 // null): (f_int + f_ext)/m + g, 0 at fixed nodes. The one implementation of
 // this rule; FDEMDeformableSetUpTS's RHS calls it too. Collective.
 PetscErrorCode DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *ao);
-// The external-force hook currently set (to chain it).
-PetscErrorCode DeformableGetExternalForce(FDEMDeformable d, FDEMDeformableForceFn *fn, void **ctx);
 // This rank's cells as local node indices (the indexing of the hook's
 // xloc/vloc/floc, 3 entries per local node), the global vertex number of
 // every local node, and the number of local nodes.

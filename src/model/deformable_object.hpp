@@ -25,6 +25,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace fdem::model::deformable {
@@ -47,8 +48,7 @@ struct _n_FDEMDeformable {
   fdem::kernels::TetMesh               mesh;
   bool                                 has_mesh = false;
   PetscReal                            g[3] = {0, 0, 0};
-  FDEMDeformableForceFn                ext = nullptr;
-  void                                *ext_ctx = nullptr;
+  std::vector<std::pair<FDEMDeformableForceFn, void *>> ext; // force terms, added in order (a chain: none replaces another)
   PetscInt                             partition = fdem::model::deformable::kPartMetis;
   PetscBool                            view = PETSC_FALSE;
   // after set-up (all ranks)

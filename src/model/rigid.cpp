@@ -71,18 +71,21 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
   PetscFunctionBegin;
   PetscCall(VecGetArrayRead(Q, &q));
   PetscCall(VecGetArray(A, &a));
+  const fdem::model::RigidLayout L(n);
   rb->FM.assign(6 * n, 0.0);
-  if (rb->contact_fn) PetscCall(rb->contact_fn(rb, t, q, rb->FM.data(), rb->contact_ctx));
+  for (const auto &term : rb->forces)
+    if (term.model) PetscCall(term.model(rb, t, q, rb->FM.data(), term.ctx));
   for (PetscInt b = 0; b < n; ++b) {
     PetscReal F[3], M[3];
     for (int k = 0; k < 3; ++k) {
-      F[k] = rb->mass[b] * rb->g[k] + PetscRealPart(rb->FM[3 * b + k]);
-      M[k] = PetscRealPart(rb->FM[3 * n + 3 * b + k]);
+      F[k] = rb->mass[b] * rb->g[k] + PetscRealPart(L.F(rb->FM.data(), b)[k]);
+      M[k] = PetscRealPart(L.M(rb->FM.data(), b)[k]);
     }
-    if (rb->force) PetscCall(rb->force(rb->ids[b], t, &q[3 * b], &q[3 * n + 9 * b], nullptr, nullptr, F, M, rb->force_ctx));
+    for (const auto &term : rb->forces)
+      if (term.body) PetscCall(term.body(rb->ids[b], t, L.x(q, b), L.R(q, b), nullptr, nullptr, F, M, term.ctx));
     for (int k = 0; k < 3; ++k) {
-      a[3 * b + k]         = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
-      a[3 * n + 3 * b + k] = rb->fixed[b] ? 0.0 : M[k];
+      L.F(a, b)[k] = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
+      L.M(a, b)[k] = rb->fixed[b] ? 0.0 : M[k];
     }
   }
   PetscCall(VecRestoreArray(A, &a));
@@ -244,12 +247,17 @@ PetscErrorCode FDEMRigidSetGravity(FDEMRigid rb, const PetscReal g[3]) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx) {
+PetscErrorCode FDEMRigidAddForce(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx) {
+  fdem::model::RigidForceTerm term;
   PetscFunctionBegin;
-  rb->force     = fn;
-  rb->force_ctx = ctx;
+  PetscCheck(fn, rb->comm, PETSC_ERR_ARG_NULL, "FDEMRigidAddForce: the force function is NULL");
+  term.body = fn;
+  term.ctx  = ctx;
+  rb->forces.push_back(term);
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx) { return FDEMRigidAddForce(rb, fn, ctx); }
 
 PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscInt  three = 3;
@@ -379,27 +387,27 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(FDEMTSSetDrift(ts, Drift, rb));
   PetscCall(TSSetSolution(ts, *U));
   rb->U = *U;
-  if (rb->contact_setup) PetscCall(rb->contact_setup(rb, rb->contact_ctx));
+  for (const auto &term : rb->forces)
+    if (term.setup) PetscCall(term.setup(rb, term.ctx));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, TS, Vec *U) {
+PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U) {
   RigidFields f;
   const PetscScalar *u;
   const PetscInt     n = rb->n;
   PetscFunctionBegin;
   PetscCall(fdem::model::RigidGetFields(rb->sw, f));
-  PetscCall(VecGetArrayRead(*U, &u));
+  PetscCall(VecGetArrayRead(U, &u));
   for (PetscInt i = 0; i < 3 * n; ++i) {
     f.x[i] = u[i];
     f.v[i] = u[12 * n + i];
     f.H[i] = u[15 * n + i];
   }
   for (PetscInt i = 0; i < 9 * n; ++i) f.R[i] = u[3 * n + i];
-  PetscCall(VecRestoreArrayRead(*U, &u));
+  PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
-  PetscCall(VecDestroy(U));
-  rb->U = nullptr;
+  if (rb->U == U) rb->U = nullptr;
   PetscFunctionReturn(0);
 }
 
@@ -469,7 +477,8 @@ PetscErrorCode FDEMRigidSolve(FDEMRigid rb, PetscReal t0, PetscReal tfinal, Pets
     PetscCall(TSGetConvergedReason(ts, &reason));
     PetscCall(TSGetTime(ts, &t));
     PetscCall(TSGetStepNumber(ts, &step));
-    PetscCall(FDEMRigidRestoreState(rb, ts, &U));
+    PetscCall(FDEMRigidRestoreState(rb, U));
+    PetscCall(VecDestroy(&U));
     PetscCall(TSDestroy(&ts));
     PetscCheck(reason >= 0, rb->comm, PETSC_ERR_NOT_CONVERGED, "FDEMRigidSolve: the time stepping failed at t = %g (%s)", (double)t, TSConvergedReasons[reason]);
     rb->solve_time  = t;

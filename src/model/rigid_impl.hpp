@@ -16,12 +16,48 @@ struct Skin {
   std::vector<std::array<int, 3>> faces; // boundary triangles
   std::vector<std::array<int, 4>> tets;
 };
+// The named layout of n rigid bodies' state and of the arrays of the split RHS:
+//   state     U = [x (3n) | R (9n) | v (3n) | H (3n)]   centre, orientation (row-major,
+//                                                        body to space), velocity, space-frame
+//                                                        angular momentum
+//   positions Q = [x | R] (the first 12n entries of U)
+//   forces    A = [F (3n) | M (3n)]                     (or F/m and M in the momentum RHS)
+// RigidLayout(n).x(u, b) is the address of body b's x in u, and so on.
+struct RigidLayout {
+  PetscInt n;
+  explicit RigidLayout(PetscInt nbodies) : n(nbodies) {}
+  static constexpr PetscInt state_size = 18, position_size = 12, force_size = 6; // per body
+  template <class T> T *x(T *u, PetscInt b) const { return u + 3 * b; }
+  template <class T> T *R(T *u, PetscInt b) const { return u + 3 * n + 9 * b; }
+  template <class T> T *v(T *u, PetscInt b) const { return u + 12 * n + 3 * b; }
+  template <class T> T *H(T *u, PetscInt b) const { return u + 15 * n + 3 * b; }
+  template <class T> T *F(T *a, PetscInt b) const { return a + 3 * b; }
+  template <class T> T *M(T *a, PetscInt b) const { return a + 3 * n + 3 * b; }
+};
+inline Vec3 ToVec3(const PetscScalar *p) { return Vec3(PetscRealPart(p[0]), PetscRealPart(p[1]), PetscRealPart(p[2])); }
+inline Mat3 ToMat3(const PetscScalar *p) {
+  Mat3 M;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) M.m[r][c] = PetscRealPart(p[3 * r + c]);
+  return M;
+}
+
 struct OutputRecord {
   PetscInt  step;
   PetscReal t;
   PetscInt  nvert, ntri;
 };
 
+// One term of a rigid model's force chain. A model term (contact) adds the forces and
+// torques of all local bodies at once, FM += [F | M] (RigidLayout) at positions q = [x | R],
+// and may be told when the local bodies change (setup, at FDEMRigidSetUpTS); a body term
+// is a user's FDEMRigidForceFn, called per body after the model terms and gravity.
+struct RigidForceTerm {
+  PetscErrorCode (*model)(FDEMRigid, PetscReal t, const PetscScalar *q, PetscScalar *FM, void *ctx) = nullptr;
+  PetscErrorCode (*setup)(FDEMRigid, void *ctx)                                                      = nullptr;
+  FDEMRigidForceFn body                                                                              = nullptr;
+  void            *ctx                                                                               = nullptr;
+};
 } // namespace fdem::model
 
 struct _n_FDEMRigid {
@@ -32,8 +68,6 @@ struct _n_FDEMRigid {
   DM                sw = nullptr;
   FDEMRotationType  rotation = FDEM_ROTATION_EXACT;
   PetscReal         g[3] = {0, 0, 0};
-  FDEMRigidForceFn  force = nullptr;
-  void             *force_ctx = nullptr;
   PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int               axis = -1; // slab axis; -1: rank 0 holds everything
   PetscInt          next_id = 0;
@@ -47,11 +81,9 @@ struct _n_FDEMRigid {
   // fixed bodies (walls, floors): never moved by forces
   std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed)
   Vec                   U = nullptr; // the TS state while a TS runs (borrowed)
-  // contact (src/contact): adds forces and torques of the local bodies, FM = [F (3n) | M (3n)]
-  PetscErrorCode (*contact_fn)(FDEMRigid, PetscReal t, const PetscScalar *q, PetscScalar *FM, void *) = nullptr;
-  PetscErrorCode (*contact_setup)(FDEMRigid, void *) = nullptr; // at FDEMRigidSetUpTS
-  void *contact_ctx = nullptr;
-  std::vector<PetscScalar> FM;
+  // the force chain: every term adds, none replaces (gravity comes first, from g)
+  std::vector<fdem::model::RigidForceTerm> forces;
+  std::vector<PetscScalar>                 FM;
   // where the last FDEMRigidSolve stopped (FDEMRigidGetTime)
   PetscReal solve_time  = 0;
   PetscInt  solve_steps = 0;

@@ -215,7 +215,7 @@ PetscErrorCode Hertz(const std::string &path, double penalty, double cfl, double
   FDEMDeformableContactStats st;
   PetscCall(FDEMDeformableContactGetStats(c, &st));
   r.searches = st.searches;
-  r.surface  = st.surface_tets;
+  r.surface  = st.primitives;
   r.pairs    = st.candidate_pairs;
   r.Fmax      = w.Fmax;
   r.tc        = w.t_off - w.t_on + r.dt; // force > 0 at the ends of steps t_on .. t_off

@@ -83,7 +83,8 @@ static PetscErrorCode RunOne(const char *scheme, FDEMRotationType rot, const Pet
     PetscCall(TSMonitorSet(ts, TrackOmega, track, nullptr));
   }
   PetscCall(TSSolve(ts, U));
-  PetscCall(FDEMRigidRestoreState(rb, ts, &U));
+  PetscCall(FDEMRigidRestoreState(rb, U));
+  PetscCall(VecDestroy(&U));
   PetscCall(TSDestroy(&ts));
   PetscCall(FDEMRigidGetBodyState(rb, 0, st));
   PetscCall(FDEMRigidDestroy(&rb));

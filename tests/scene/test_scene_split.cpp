@@ -100,7 +100,8 @@ int main(int argc, char **argv) {
     PetscCall(TSSetType(ts, type.c_str()));
     PetscCall(FDEMRigidSetUpTS(rb1, ts, &U));
     PetscCall(Run(ts, U, type.c_str()));
-    PetscCall(FDEMRigidRestoreState(rb1, ts, &U));
+    PetscCall(FDEMRigidRestoreState(rb1, U));
+    PetscCall(VecDestroy(&U));
     PetscCall(TSDestroy(&ts));
     PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
     PetscCall(TSSetType(ts, type.c_str()));

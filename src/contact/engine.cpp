@@ -1,0 +1,466 @@
+// The contact engine: search, ghosts, pair loop, checks and statistics for every
+// pair of body kinds (see engine.hpp and doc/contact_engine.md).
+#include "engine.hpp"
+#include "../util/guard.hpp"
+#include "../util/halo.hpp"
+#include "params.hpp"
+#include <fdem/ts.h>
+#include <fdem/kernels/nbs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace fdem::contact {
+namespace {
+PetscClassId  CLASSID = 0;
+PetscLogEvent EV_LIST = 0, EV_GHOST = 0, EV_SEARCH = 0, EV_FORCE = 0;
+
+// A rank's region: NBOX boxes from a k-d split of its primitives' bounding spheres, BW numbers
+// each: lo(3), -hi(3) (empty: +inf), the body and the kind of all its primitives (-1: several),
+// and the bit mask of the kinds in it.
+constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, BW = 9;
+
+// Bounding sphere (with half the buffer) of a tetrahedron.
+void Sphere(const Tet4 &T, PetscReal half_buffer, double ct[3], double *r) {
+  const Vec3 m  = 0.25 * (T[0] + T[1] + T[2] + T[3]);
+  double     rr = 0;
+  for (int k = 0; k < 4; ++k) rr = std::max(rr, norm(T[k] - m));
+  for (int k = 0; k < 3; ++k) ct[k] = m[k];
+  *r = rr + half_buffer;
+}
+
+bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
+
+double Volume6(const Tet4 &a) { return std::fabs(dot(a[1] - a[0], cross(a[2] - a[0], a[3] - a[0]))); }
+} // namespace
+
+Engine::Engine(MPI_Comm comm, const char *who) : comm_(comm), who_(who) {
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  first_.push_back(0);
+}
+
+Engine::~Engine() { PetscSFDestroy(&sf_); }
+
+int Engine::AddAdapter(Adapter *a) {
+  adapters_.push_back(a);
+  first_.push_back(0);
+  listed_ = false;
+  return (int)adapters_.size() - 1;
+}
+
+// ------------------------------------------------------------------ parameters
+PetscErrorCode Engine::SetPenalty(PetscReal penalty) {
+  PetscFunctionBegin;
+  PetscCall(CheckPenalty(comm_, who_.c_str(), penalty));
+  par_.penalty = penalty;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) {
+  PetscFunctionBegin;
+  PetscCall(fdem::contact::SetDissipation(comm_, who_.c_str(), damping, friction, tangential_viscosity, par_.diss));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::SetBuffer(PetscReal buffer) {
+  PetscFunctionBegin;
+  if (buffer >= 0) PetscCall(CheckBuffer(comm_, who_.c_str(), buffer));
+  PetscCheck(std::isfinite(buffer), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: the search buffer must be finite", who_.c_str());
+  par_.buffer = buffer;
+  searched_   = false;
+  if (buffer >= 0) stats_.buffer = buffer;
+  else listed_ = false; // the automatic buffer is computed when listing
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::SetSelfContact(PetscBool self) {
+  PetscFunctionBegin;
+  par_.self = self;
+  searched_ = false;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::CheckPenaltySet() const {
+  PetscFunctionBegin;
+  PetscCheck(par_.penalty > 0, comm_, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::SetFromOptions() {
+  PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
+  PetscBool fp, fb, self = par_.self;
+  PetscFunctionBegin;
+  PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
+  PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
+  PetscCall(PetscOptionsReal("-fdem_contact_damping", "Normal contact damping (Pa s/m)", "FDEMContactSetDissipation", damp, &damp, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_friction", "Coulomb friction coefficient", "FDEMContactSetDissipation", mu, &mu, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
+  PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
+  PetscOptionsEnd();
+  if (fp) PetscCall(SetPenalty(pen));
+  PetscCall(SetDissipation(damp, mu, ct));
+  if (fb) PetscCall(SetBuffer(buf));
+  if (self != par_.self) PetscCall(SetSelfContact(self));
+  PetscFunctionReturn(0);
+}
+
+// ------------------------------------------------------------------ primitives and ghosts
+PetscErrorCode RegisterEvents() {
+  PetscFunctionBegin;
+  if (!CLASSID) {
+    PetscCall(PetscClassIdRegister("FDEM Contact", &CLASSID));
+    PetscCall(PetscLogEventRegister("FDEMContactList", CLASSID, &EV_LIST));
+    PetscCall(PetscLogEventRegister("FDEMContactHalo", CLASSID, &EV_GHOST));
+    PetscCall(PetscLogEventRegister("FDEMContactDetect", CLASSID, &EV_SEARCH));
+    PetscCall(PetscLogEventRegister("FDEMContactForce", CLASSID, &EV_FORCE));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::ListAll() {
+  PetscFunctionBegin;
+  PetscCall(RegisterEvents());
+  PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
+  prim_.clear();
+  PetscReal size_sum = 0;
+  PetscInt  size_count = 0;
+  for (size_t k = 0; k < adapters_.size(); ++k) {
+    std::vector<Primitive> p;
+    PetscReal              s = 0;
+    PetscInt               n = 0;
+    PetscCall(adapters_[k]->List(p));
+    for (auto &q : p) q.kind = (std::int32_t)k;
+    prim_.insert(prim_.end(), p.begin(), p.end());
+    first_[k + 1] = (int)prim_.size();
+    if (par_.buffer < 0) {
+      PetscCall(adapters_[k]->BufferProposal(&s, &n));
+      size_sum += s;
+      size_count += n;
+    }
+  }
+  nl_ = (int)prim_.size();
+  x_.resize(nl_);
+  f_.resize(nl_);
+  PetscInt np = nl_;
+  PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
+  if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
+    PetscReal g;
+    PetscInt  gn;
+    PetscCallMPI(MPI_Allreduce(&size_sum, &g, 1, MPIU_REAL, MPI_SUM, comm_));
+    PetscCallMPI(MPI_Allreduce(&size_count, &gn, 1, MPIU_INT, MPI_SUM, comm_));
+    stats_.buffer = gn > 0 ? g / (PetscReal)gn : 0;
+  } else stats_.buffer = par_.buffer;
+  listed_   = true;
+  searched_ = false;
+  PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(EV_GHOST, 0, 0, 0, 0));
+  if (x) {
+    gx_.resize(ng_);
+    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+  }
+  if (v) {
+    gv_.resize(ng_);
+    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
+  }
+  PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// The halo and the candidate pairs. Each rank's region is NBOX boxes around the bounding
+// spheres of its primitives; a primitive whose sphere meets another rank's box is sent there
+// as a ghost (unless no allowed pair can form with that box's primitives). A pair whose
+// spheres overlap lies on the rank owning the primitive with the smaller (kind, key), which
+// computes it; forces on ghosts go back through the same SF.
+PetscErrorCode Engine::Search() {
+  const PetscReal half = 0.5 * stats_.buffer;
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
+  const int           nl = nl_;
+  std::vector<double> centres(3 * (size_t)nl), radii(nl);
+  for (int i = 0; i < nl; ++i) Sphere(x_[i], half, &centres[3 * (size_t)i], &radii[i]);
+  std::vector<double> box(BW * NBOX, INFINITY);
+  {
+    std::vector<int> idx(nl);
+    for (int i = 0; i < nl; ++i) idx[i] = i;
+    std::function<void(int, int, int, int)> split = [&](int b, int e, int depth, int slot) {
+      if (b >= e) return;
+      if (depth == 0) {
+        double *bx = &box[BW * slot];
+        bx[6]      = (double)prim_[idx[b]].body;
+        bx[7]      = (double)prim_[idx[b]].kind;
+        unsigned mask = 0;
+        for (int j = b; j < e; ++j) {
+          const int i = idx[j];
+          for (int k = 0; k < 3; ++k) {
+            bx[k]     = std::min(bx[k], centres[3 * i + k] - radii[i]);
+            bx[3 + k] = std::min(bx[3 + k], -(centres[3 * i + k] + radii[i]));
+          }
+          if ((double)prim_[i].body != bx[6] || (double)prim_[i].kind != bx[7]) bx[6] = -1;
+          if ((double)prim_[i].kind != bx[7]) bx[7] = -1;
+          mask |= 1u << prim_[i].kind;
+        }
+        bx[8] = mask;
+        return;
+      }
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      for (int j = b; j < e; ++j)
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], centres[3 * idx[j] + k]);
+          hi[k] = std::max(hi[k], centres[3 * idx[j] + k]);
+        }
+      int ax = 0;
+      for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
+      const int m = b + (e - b) / 2;
+      std::nth_element(idx.begin() + b, idx.begin() + m, idx.begin() + e, [&](int u, int v) { return centres[3 * u + ax] < centres[3 * v + ax]; });
+      split(b, m, depth - 1, 2 * slot);
+      split(m, e, depth - 1, 2 * slot + 1);
+    };
+    if (size_ > 1) split(0, nl, NBOX_DEPTH, 0); // one rank: no one to send to
+  }
+  std::vector<double> boxes(BW * NBOX * (size_t)size_);
+  PetscCallMPI(MPI_Allgather(box.data(), BW * NBOX, MPI_DOUBLE, boxes.data(), BW * NBOX, MPI_DOUBLE, comm_));
+  // 1. who needs which of my primitives
+  std::vector<std::vector<PetscInt>> send(size_);
+  for (int s = 0; s < size_; ++s) {
+    if (s == rank_) continue;
+    for (int i = 0; i < nl; ++i) {
+      const Primitive &p    = prim_[i];
+      const bool       self = par_.self && adapters_[p.kind]->CanSelfContact();
+      for (int q = 0; q < NBOX; ++q) {
+        const double  *b    = &boxes[BW * ((size_t)s * NBOX + q)];
+        const unsigned mask = b[8] < INFINITY ? (unsigned)b[8] : 0u;
+        bool           in   = false;
+        for (int k = 0; k < (int)adapters_.size() && !in; ++k) in = (mask >> k & 1u) && allow_[p.kind][k];
+        // no pairs within one body without self-contact
+        in = in && (self || b[6] != (double)p.body || b[7] != (double)p.kind);
+        for (int k = 0; k < 3 && in; ++k) in = centres[3 * i + k] + radii[i] >= b[k] && centres[3 * i + k] - radii[i] <= -b[3 + k];
+        if (in) {
+          send[s].push_back(i);
+          break;
+        }
+      }
+    }
+  }
+  std::vector<PetscSFNode> ghosts;
+  PetscCall(fdem::HaloExchange(comm_, send, ghosts));
+  // 2. the SF (one Vertices record per primitive) and the ghosts' static records (a one-off SF)
+  ng_ = (int)ghosts.size();
+  PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), &sf_));
+  {
+    PetscSF sfs = nullptr;
+    gprim_.resize(ng_);
+    PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)sizeof(Primitive), &sfs));
+    PetscCall(PetscSFBcastBegin(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCall(PetscSFDestroy(&sfs));
+  }
+  PetscCall(UpdateGhosts(true, false));
+  // 3. cell search over own + ghost primitives
+  const int N = nl + ng_;
+  centres.resize(3 * (size_t)N);
+  radii.resize(N);
+  double dmax = 0;
+  for (int i = nl; i < N; ++i) Sphere(gx_[i - nl], half, &centres[3 * (size_t)i], &radii[i]);
+  for (int i = 0; i < N; ++i) dmax = std::max(dmax, 2 * radii[i]);
+  pairs_.clear();
+  {
+    PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
+      if (nl == 0) return 0;
+      fdem::kernels::CellSearch        cs;
+      std::vector<std::pair<int, int>> tp;
+      cs.Build(centres.data(), radii.data(), N, dmax * (1 + 1e-12));
+      cs.FindPairs(tp);
+      for (const auto &pr : tp) {
+        int              a = pr.first, b = pr.second;
+        const Primitive &A = P(a), &B = P(b);
+        if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
+        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
+          if (!(par_.self && adapters_[A.kind]->CanSelfContact())) continue;
+          bool share = false;
+          for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) share = share || (A.node[i] >= 0 && A.node[i] == B.node[j]);
+          if (share) continue;
+        }
+        if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), computed by its owner
+        if (a >= nl) continue;
+        pairs_.push_back({a, b});
+      }
+      return 0;
+    }));
+  }
+  // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere
+  {
+    std::vector<char> t(nl, 0);
+    for (const auto &p : pairs_) {
+      t[p[0]] = 1;
+      if (p[1] < nl) t[p[1]] = 1;
+    }
+    for (const auto &s : send)
+      for (PetscInt i : s) t[i] = 1;
+    touch_.assign(adapters_.size(), {});
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      for (int i = first_[k]; i < first_[k + 1]; ++i)
+        if (t[i]) touch_[k].push_back(i - first_[k]);
+  }
+  for (auto *a : adapters_) PetscCall(a->Searched());
+  gf_.resize(ng_);
+  searched_ = true;
+  stats_.searches++;
+  PetscInt loc[2] = {(PetscInt)pairs_.size(), (PetscInt)ng_}, glob[2];
+  PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, comm_));
+  stats_.candidate_pairs = glob[0];
+  stats_.ghosts          = glob[1];
+  PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// ------------------------------------------------------------------ evaluation
+PetscErrorCode Engine::Evaluate() {
+  PetscFunctionBegin;
+  PetscCall(CheckPenaltySet());
+  if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the contact frequency against K_crit
+    TSType         type;
+    PetscReal      dt;
+    PetscBool      found;
+    FDEMSchemeInfo info;
+    checked_ts_ = ts_;
+    PetscCall(TSGetType(ts_, &type));
+    PetscCall(TSGetTimeStep(ts_, &dt));
+    PetscCall(FDEMSchemeInfoFind(type, &found, &info));
+    if (found && dt > 0) PetscCall(CheckTimeStep(type, dt, &stats_.dt_ratio));
+  }
+  if (!listed_) PetscCall(ListAll());
+  with_v_ = par_.Dissipative();
+  if (with_v_) v_.resize(nl_);
+  // the re-search rule: some vertex moved more than half the buffer since the last search (all ranks)
+  PetscReal move = searched_ ? 0 : PETSC_MAX_REAL, gmove;
+  if (searched_)
+    for (auto *a : adapters_) {
+      PetscReal m;
+      PetscCall(a->MaxMove(&m));
+      move = std::max(move, m);
+    }
+  PetscCallMPI(MPI_Allreduce(&move, &gmove, 1, MPIU_REAL, MPI_MAX, comm_));
+  const bool search = gmove > 0.5 * stats_.buffer;
+  if (search) {
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
+    PetscCall(Search());
+  }
+  for (size_t k = 0; k < adapters_.size(); ++k)
+    if (!search || with_v_) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], with_v_ ? v_.data() + first_[k] : nullptr));
+  PetscCall(UpdateGhosts(!search, with_v_));
+
+  // the pair loop: potential force both ways, damping and friction; forces per vertex
+  PetscCall(PetscLogEventBegin(EV_FORCE, 0, 0, 0, 0));
+  const Vertices zero{};
+  for (size_t k = 0; k < adapters_.size(); ++k)
+    for (int i : touch_[k]) f_[first_[k] + i] = zero;
+  std::fill(gf_.begin(), gf_.end(), zero);
+  PetscReal             sums[2] = {0, 0}; // energy, active pairs
+  std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
+  const PetscReal       pen = par_.penalty;
+  PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
+    fdem::kernels::TetPairContact pc;
+    std::array<Vec3, 4>           fa, fb, da, db;
+    for (const auto &p : pairs_) {
+      const Tet4 &a = X(p[0]), &b = X(p[1]);
+      if (!fdem::kernels::PotentialContactForce(a, b, pen, pen, pc)) continue;
+      sums[0] += pc.energy;
+      sums[1] += 1;
+      if (!checked_initial_) {
+        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid potential
+        const double ratio = pc.energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8);
+        if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
+      }
+      fa = pc.fa;
+      fb = pc.fb;
+      if (with_v_) {
+        fdem::kernels::ContactDampingFriction(a, b, V(p[0]), V(p[1]), pc, par_.diss, da, db);
+        for (int k = 0; k < 4; ++k) {
+          fa[k] += da[k];
+          fb[k] += db[k];
+        }
+      }
+      Vertices &oa = f_[p[0]], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
+      for (int k = 0; k < 4; ++k) {
+        oa[k] += fa[k];
+        ob[k] += fb[k];
+      }
+    }
+    return 0;
+  }));
+  if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
+  // forces on ghosts go back to their owners and are summed there
+  PetscCall(PetscSFReduceBegin(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
+  PetscCall(PetscSFReduceEnd(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
+  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
+  PetscReal gsums[2];
+  PetscCallMPI(MPI_Allreduce(sums, gsums, 2, MPIU_REAL, MPI_SUM, comm_));
+  stats_.energy       = gsums[0];
+  stats_.active_pairs = (PetscInt)gsums[1];
+  stats_.evaluations++;
+  PetscCall(PetscLogEventEnd(EV_FORCE, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// Collective: every rank stops with the same message, composed by the rank holding the worst pair.
+PetscErrorCode Engine::CheckInitialOverlap(const std::array<double, 3> &deep) {
+  double worst;
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Allreduce(&deep[0], &worst, 1, MPI_DOUBLE, MPI_MAX, comm_));
+  checked_initial_ = true;
+  if (!(worst > 1)) PetscFunctionReturn(0);
+  PetscMPIInt mine = deep[0] == worst ? rank_ : size_, from;
+  PetscCallMPI(MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, comm_));
+  char msg[512] = "";
+  if (rank_ == from) {
+    const Primitive &A = P((int)deep[1]), &B = P((int)deep[2]);
+    const Adapter   *a = adapters_[A.kind], *b = adapters_[B.kind];
+    PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s and %s start interpenetrating deeply (their %s and %s overlap %.1f times more than allowed); separate them", a->BodyName(A).c_str(), b->BodyName(B).c_str(),
+                            a->ElementName(A).c_str(), b->ElementName(B).c_str(), worst));
+  }
+  PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, from, comm_));
+  SETERRQ(comm_, PETSC_ERR_USER_INPUT, "%s: %s", who_.c_str(), msg);
+}
+
+// ------------------------------------------------------------------ the time-step check
+PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal *ratio) {
+  FDEMSchemeInfo info;
+  PetscBool      found;
+  struct {
+    double val;
+    int    kind;
+  } loc{0, -1}, glob;
+  PetscFunctionBegin;
+  PetscCall(CheckPenaltySet());
+  PetscCheck(dt > 0 && std::isfinite(dt), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: the time step must be positive, got %g", who_.c_str(), (double)dt);
+  PetscCall(FDEMSchemeInfoFind(scheme, &found, &info));
+  PetscCheck(found, comm_, PETSC_ERR_ARG_UNKNOWN_TYPE, "%s: %s is not an fdem TS type", who_.c_str(), scheme);
+  for (size_t k = 0; k < adapters_.size(); ++k) {
+    PetscReal a;
+    PetscCall(adapters_[k]->Frequency2(par_.penalty, &a)); // collective
+    if (a > loc.val) loc = {a, (int)k};
+  }
+  PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
+  const PetscReal omega = std::sqrt(glob.val);
+  const PetscReal r     = info.kcrit > 0 ? omega * dt / info.kcrit : PETSC_MAX_REAL;
+  if (ratio) *ratio = r;
+  if (r > 0.5)
+    PetscCall(PetscPrintf(comm_,
+                          "WARNING fdem contact: the contact frequency omega_c = %g (%s side; see doc/contact_engine.md) makes omega_c dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
+                          "or the penalty\n",
+                          (double)omega, glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no", (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme, (double)(0.5 * info.kcrit / omega)));
+  PetscFunctionReturn(0);
+}
+} // namespace fdem::contact

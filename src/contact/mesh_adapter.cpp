@@ -1,0 +1,193 @@
+// A deformable mesh as a body kind of the contact engine (mesh_adapter.hpp).
+#include "mesh_adapter.hpp"
+#include "surface.hpp"
+#include "../model/deformable_impl.hpp"
+#include <fdem/deformable_contact.h> // FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName
+
+#include <algorithm>
+#include <cmath>
+#include <new>
+
+namespace fdem::contact {
+PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **out) {
+  PetscInt nc, nlocal;
+  MPI_Comm comm;
+  DM       dm;
+  PetscFunctionBegin;
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, nullptr, nullptr, nullptr, nullptr)); // also checks set-up
+  PetscCall(FDEMDeformableGetDM(d, &dm));
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  std::vector<PetscInt> conn(4 * (size_t)nc), body(nc), gid(nc), ngid(nlocal);
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, conn.data(), body.data(), gid.data(), ngid.data()));
+  std::vector<char> surf, bnode;
+  PetscCall(BoundaryFaces(comm, conn, ngid, surf));
+  if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, conn, surf, nlocal, bnode));
+  MeshAdapter *m = new (std::nothrow) MeshAdapter();
+  PetscCheck(m, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory");
+  m->d_ = d;
+  PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
+  for (PetscInt e = 0; e < nc; ++e) {
+    bool on = surf[e] != 0;
+    if (which == Cells::BoundaryVertex)
+      for (int k = 0; k < 4; ++k) on = on || bnode[conn[4 * e + k]];
+    if (!on) continue;
+    Primitive p;
+    p.body = body[e];
+    p.elem = gid[e];
+    p.key  = gid[e];
+    for (int k = 0; k < 4; ++k) p.node[k] = ngid[conn[4 * e + k]];
+    m->conn_.push_back({conn[4 * e], conn[4 * e + 1], conn[4 * e + 2], conn[4 * e + 3]});
+    m->prims_.push_back(p);
+    m->faces_.push_back(surf[e]);
+  }
+  m->body_force_.assign(3 * (size_t)m->nbodies_, 0);
+  *out = m;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::List(std::vector<Primitive> &prims) {
+  PetscFunctionBegin;
+  prims = prims_;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::Gather(const std::vector<int> *which, Vertices *x, Vertices *v) {
+  const size_t n = which ? which->size() : conn_.size();
+  PetscFunctionBegin;
+  PetscCheck(!v || vl_ || !require_v_, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the nodal velocities, which this force evaluation did not provide");
+  for (size_t m = 0; m < n; ++m) {
+    const size_t t = which ? (size_t)(*which)[m] : m;
+    for (int q = 0; q < 4; ++q) {
+      const PetscInt a = 3 * conn_[t][q];
+      x[t][q]          = Vec3(PetscRealPart(xl_[a]), PetscRealPart(xl_[a + 1]), PetscRealPart(xl_[a + 2]));
+      if (v) v[t][q] = vl_ ? Vec3(PetscRealPart(vl_[a]), PetscRealPart(vl_[a + 1]), PetscRealPart(vl_[a + 2])) : Vec3(0, 0, 0);
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::Scatter(const std::vector<int> &which, const Vertices *, const Vertices *f) {
+  PetscFunctionBegin;
+  std::fill(body_force_.begin(), body_force_.end(), 0);
+  for (int t : which)
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 3; ++j) {
+        fl_[3 * conn_[t][k] + j] += f[t][k][j];
+        body_force_[3 * prims_[t].body + j] += f[t][k][j];
+      }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::MaxMove(PetscReal *move) {
+  PetscFunctionBegin;
+  *move = 0;
+  for (size_t t = 0; t < conn_.size(); ++t)
+    for (int q = 0; q < 4; ++q) {
+      const PetscInt a = 3 * conn_[t][q];
+      const Vec3    &r = ref_[t][q];
+      *move            = std::max(*move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
+    }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::Searched() {
+  PetscFunctionBegin;
+  ref_.resize(conn_.size());
+  PetscCall(Gather(nullptr, ref_.data(), nullptr));
+  PetscFunctionReturn(0);
+}
+
+// Contact stiffness of each boundary node: a boundary face of area A pressed a depth d into
+// its tetrahedron of height H over it feels ~ penalty (d / H) A, shared by its three nodes,
+// so k = sum over the node's boundary faces of penalty A / (3 H). Both tetrahedra of a pair
+// push (contactor and target, x2) and an equal body on the other side halves the effective
+// mass (x2): omega^2 = 4 k / m with m the node's lumped mass (flat contact of equal bodies,
+// the stiffest case), at the mesh's stored positions.
+PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
+  DM                       dm;
+  Vec                      X, M, Xl, Kl, Kg;
+  const PetscScalar       *xa, *ma, *kg;
+  PetscScalar             *kl;
+  const std::vector<char> *fixed;
+  PetscFunctionBegin;
+  *w2 = 0;
+  PetscCall(FDEMDeformableGetDM(d_, &dm));
+  PetscCall(FDEMDeformableGetPositions(d_, &X));
+  PetscCall(FDEMDeformableGetMasses(d_, &M));
+  PetscCall(fdem::model::DeformableGetFixed(d_, &fixed));
+  PetscCall(DMGetLocalVector(dm, &Xl));
+  PetscCall(DMGetLocalVector(dm, &Kl));
+  PetscCall(DMGetGlobalVector(dm, &Kg));
+  PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
+  PetscCall(VecSet(Kl, 0));
+  PetscCall(VecGetArrayRead(Xl, &xa));
+  PetscCall(VecGetArray(Kl, &kl));
+  for (size_t t = 0; t < conn_.size(); ++t) {
+    const auto &T = conn_[t];
+    Vec3        P[4];
+    for (int q = 0; q < 4; ++q) P[q] = Vec3(PetscRealPart(xa[3 * T[q]]), PetscRealPart(xa[3 * T[q] + 1]), PetscRealPart(xa[3 * T[q] + 2]));
+    const double V = std::fabs(dot(P[1] - P[0], cross(P[2] - P[0], P[3] - P[0]))) / 6;
+    for (int o = 0; o < 4; ++o) {
+      if (!(faces_[t] & (1 << o))) continue;
+      const int    i = (o + 1) % 4, j = (o + 2) % 4, k = (o + 3) % 4;
+      const double A = 0.5 * norm(cross(P[j] - P[i], P[k] - P[i]));
+      if (!(V > 0) || !(A > 0)) continue;
+      const double H = 3 * V / A;
+      for (int q : {i, j, k}) kl[3 * T[q]] += penalty * A / (3 * H);
+    }
+  }
+  PetscCall(VecRestoreArray(Kl, &kl));
+  PetscCall(VecRestoreArrayRead(Xl, &xa));
+  PetscCall(VecSet(Kg, 0));
+  PetscCall(DMLocalToGlobal(dm, Kl, ADD_VALUES, Kg));
+  PetscCall(VecGetArrayRead(Kg, &kg));
+  PetscCall(VecGetArrayRead(M, &ma));
+  for (size_t n = 0; n < fixed->size(); ++n) {
+    const PetscReal k = PetscRealPart(kg[3 * n]), m = PetscRealPart(ma[3 * n]);
+    if ((*fixed)[n] || !(k > 0) || !(m > 0)) continue; // fixed nodes do not move
+    *w2 = std::max(*w2, 4 * k / m);
+  }
+  PetscCall(VecRestoreArrayRead(M, &ma));
+  PetscCall(VecRestoreArrayRead(Kg, &kg));
+  PetscCall(DMRestoreGlobalVector(dm, &Kg));
+  PetscCall(DMRestoreLocalVector(dm, &Kl));
+  PetscCall(DMRestoreLocalVector(dm, &Xl));
+  PetscFunctionReturn(0);
+}
+
+std::string MeshAdapter::BodyName(const Primitive &p) const {
+  const char *name = nullptr;
+  if (FDEMDeformableGetBodyName(d_, p.body, nullptr, &name) || !name) return "deformable body " + std::to_string((long long)p.body);
+  return std::string("deformable body '") + name + "'";
+}
+std::string MeshAdapter::ElementName(const Primitive &p) const { return "element " + std::to_string((long long)p.elem); }
+
+// A quarter of each cell's diameter in the reference configuration. Collective.
+PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
+  DM                 dm;
+  Vec                X, Xl;
+  const PetscScalar *xa;
+  PetscFunctionBegin;
+  *sum   = 0;
+  *count = (PetscInt)conn_.size();
+  PetscCall(FDEMDeformableGetDM(d_, &dm));
+  PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
+  PetscCall(DMGetLocalVector(dm, &Xl));
+  PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
+  PetscCall(VecGetArrayRead(Xl, &xa));
+  for (const auto &T : conn_) {
+    PetscReal diam = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        PetscReal dd = 0;
+        for (int k = 0; k < 3; ++k) dd += PetscSqr(PetscRealPart(xa[3 * T[a] + k] - xa[3 * T[b] + k]));
+        diam = std::max(diam, PetscSqrtReal(dd));
+      }
+    *sum += diam;
+  }
+  *sum *= 0.25;
+  PetscCall(VecRestoreArrayRead(Xl, &xa));
+  PetscCall(DMRestoreLocalVector(dm, &Xl));
+  PetscFunctionReturn(0);
+}
+} // namespace fdem::contact

@@ -1,0 +1,53 @@
+// Internal: a deformable mesh (FDEMDeformable) as a body kind of the contact engine.
+// It lends its cells at the boundary (the nodes' current positions and velocities)
+// and adds the nodal forces to its force vector.
+#pragma once
+#include "engine.hpp"
+#include <fdem/deformable.h>
+
+namespace fdem::contact {
+class MeshAdapter : public Adapter {
+public:
+  // Which cells take part: those with a boundary face (the surface tetrahedra), or
+  // those with a vertex on the boundary (a rigid corner may enter through an edge).
+  enum class Cells { BoundaryFace, BoundaryVertex };
+  // Collective: finds the cells (after FDEMDeformableSetUp).
+  static PetscErrorCode Create(FDEMDeformable d, Cells which, MeshAdapter **out);
+  // Before each evaluation: local (ghosted) positions xl, velocities vl (may be null) and
+  // forces fl (added to), in the node numbering of the mesh's local vectors.
+  void Bind(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl) {
+    xl_ = xl;
+    vl_ = vl;
+    fl_ = fl;
+  }
+  // Without velocities: stop with an error (true) or take them as zero (false).
+  void RequireVelocities(bool r) { require_v_ = r; }
+  PetscErrorCode List(std::vector<Primitive> &prims) override;
+  PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
+  PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
+  PetscErrorCode MaxMove(PetscReal *move) override;
+  PetscErrorCode Searched() override;
+  const char    *KindName() const override { return "mesh"; }
+  bool           CanSelfContact() const override { return true; }
+  PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
+  std::string    BodyName(const Primitive &p) const override;
+  std::string    ElementName(const Primitive &p) const override;
+  PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) override;
+  // Total contact force on each body at the last evaluation, this rank's cells (3 per body).
+  const std::vector<PetscReal> &BodyForce() const { return body_force_; }
+  PetscInt                      NumBodies() const { return nbodies_; }
+  PetscInt                      NumCells() const { return (PetscInt)conn_.size(); }
+
+private:
+  FDEMDeformable                       d_ = nullptr;
+  PetscInt                             nbodies_ = 0;
+  std::vector<std::array<PetscInt, 4>> conn_;  // local node indices
+  std::vector<Primitive>               prims_; // body, global element id, node global ids
+  std::vector<char>                    faces_; // bit o: the face opposite node o is on the boundary
+  std::vector<PetscReal>               body_force_;
+  std::vector<Vertices>                ref_; // vertex positions at the last search
+  const PetscScalar                   *xl_ = nullptr, *vl_ = nullptr;
+  PetscScalar                         *fl_ = nullptr;
+  bool                                 require_v_ = true;
+};
+} // namespace fdem::contact

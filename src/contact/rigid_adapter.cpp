@@ -1,0 +1,164 @@
+// Rigid bodies as a body kind of the contact engine (rigid_adapter.hpp).
+#include "rigid_adapter.hpp"
+#include <fdem/kernels/rotation.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fdem::contact {
+using fdem::kernels::Mat3;
+using fdem::model::RigidLayout;
+using fdem::model::ToMat3;
+using fdem::model::ToVec3;
+
+PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
+  fdem::model::RigidFields f;
+  std::int64_t             tmax = 1;
+  PetscFunctionBegin;
+  for (const auto &sk : rb_->skins) tmax = std::max<std::int64_t>(tmax, (std::int64_t)sk.tets.size());
+  body_.clear();
+  skin_.clear();
+  radius_.clear();
+  prim_body_.clear();
+  prim_tet_.clear();
+  prims.clear();
+  PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
+  for (PetscInt b = 0; b < rb_->n; ++b) {
+    if (f.skin[b] < 0) continue;
+    const auto &sk = rb_->skins[f.skin[b]];
+    for (size_t t = 0; t < sk.tets.size(); ++t) {
+      Primitive p;
+      p.fixed = rb_->fixed[b] ? 1 : 0;
+      p.body  = rb_->ids[b];
+      p.elem  = (PetscInt)t;
+      p.key   = (std::int64_t)rb_->ids[b] * tmax + (std::int64_t)t;
+      prims.push_back(p);
+      prim_body_.push_back((int)body_.size());
+      prim_tet_.push_back((int)t);
+    }
+    body_.push_back(b);
+    skin_.push_back(f.skin[b]);
+    radius_.push_back(f.radius[b]);
+  }
+  PetscCall(fdem::model::RigidRestoreFields(rb_->sw, f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, Vertices *v) {
+  const RigidLayout L(rb_->n);
+  const size_t      n    = which ? which->size() : prim_body_.size();
+  int               last = -1;
+  Vec3              xc, vc, w;
+  Mat3              R;
+  PetscFunctionBegin;
+  PetscCheck(!v || u_, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the rigid bodies' velocities, which this force evaluation did not provide");
+  for (size_t m = 0; m < n; ++m) {
+    const int i = which ? (*which)[m] : (int)m, j = prim_body_[i];
+    const auto &sk = rb_->skins[skin_[j]];
+    if (j != last) { // the primitives of a body are consecutive: its skin nodes once
+      const PetscInt b = body_[j];
+      last             = j;
+      xc               = ToVec3(L.x(q_, b));
+      R                = ToMat3(L.R(q_, b));
+      world_.resize(sk.nodes.size());
+      for (size_t k = 0; k < sk.nodes.size(); ++k) world_[k] = xc + R * sk.nodes[k];
+      if (v) {
+        vc = ToVec3(L.v(u_, b));
+        w  = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
+      }
+    }
+    const auto &T = sk.tets[prim_tet_[i]];
+    for (int k = 0; k < 4; ++k) {
+      x[i][k] = world_[T[k]];
+      if (v) v[i][k] = vc + cross(w, x[i][k] - xc);
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) {
+  const RigidLayout L(rb_->n);
+  PetscFunctionBegin;
+  for (size_t m = 0; m < which.size();) { // the primitives of a body are consecutive
+    const int      j  = prim_body_[which[m]];
+    const PetscInt b  = body_[j];
+    const Vec3     xc = ToVec3(L.x(q_, b));
+    Vec3           F, M;
+    for (; m < which.size() && prim_body_[which[m]] == j; ++m) {
+      const int i = which[m];
+      for (int k = 0; k < 4; ++k) {
+        F += f[i][k];
+        M += cross(x[i][k] - xc, f[i][k]);
+      }
+    }
+    for (int d = 0; d < 3; ++d) {
+      L.F(fm_, b)[d] += F[d];
+      L.M(fm_, b)[d] += M[d];
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+// |x - x0| + r |R - R0|_F bounds the displacement of every skin node (|R - R0|_2 <= |R - R0|_F).
+PetscErrorCode RigidAdapter::MaxMove(PetscReal *move) {
+  const RigidLayout L(rb_->n);
+  PetscFunctionBegin;
+  *move = 0;
+  for (size_t j = 0; j < body_.size(); ++j) {
+    const PetscScalar *x = L.x(q_, body_[j]), *R = L.R(q_, body_[j]);
+    const PetscReal   *r = &ref_[12 * j];
+    PetscReal          dx = 0, dR = 0;
+    for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
+    for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
+    *move = std::max(*move, std::sqrt(dx) + radius_[j] * std::sqrt(dR));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RigidAdapter::Searched() {
+  const RigidLayout L(rb_->n);
+  PetscFunctionBegin;
+  ref_.resize(12 * body_.size());
+  for (size_t j = 0; j < body_.size(); ++j) {
+    for (int k = 0; k < 3; ++k) ref_[12 * j + k] = PetscRealPart(L.x(q_, body_[j])[k]);
+    for (int k = 0; k < 9; ++k) ref_[12 * j + 3 + k] = PetscRealPart(L.R(q_, body_[j])[k]);
+  }
+  PetscFunctionReturn(0);
+}
+
+// A flat contact over the body's cross-section A ~ (2 r)^2 pressed into skin tetrahedra of
+// size L (6 r^3 / skin tetrahedra)^(1/3): k ~ penalty A / L, omega^2 = k / m (largest over
+// the bodies that can move and touch).
+PetscErrorCode RigidAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
+  fdem::model::RigidFields f;
+  PetscInt                 n;
+  PetscFunctionBegin;
+  *w2 = 0;
+  PetscCall(DMSwarmGetLocalSize(rb_->sw, &n));
+  PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
+  for (PetscInt b = 0; b < n; ++b) {
+    if (f.fixed[b] || f.skin[b] < 0) continue;
+    const PetscReal r = f.radius[b];
+    const PetscReal L = PetscPowReal(std::max<PetscReal>(1e-300, 6 * r * r * r / (PetscReal)rb_->skins[f.skin[b]].tets.size()), 1.0 / 3);
+    *w2               = std::max(*w2, penalty * 4 * r * r / (L * f.mass[b]));
+  }
+  PetscCall(fdem::model::RigidRestoreFields(rb_->sw, f));
+  PetscFunctionReturn(0);
+}
+
+std::string RigidAdapter::BodyName(const Primitive &p) const { return "rigid body " + std::to_string((long long)p.body); }
+std::string RigidAdapter::ElementName(const Primitive &p) const { return "skin tetrahedron " + std::to_string((long long)p.elem); }
+
+// A tenth of each local body's bounding radius.
+PetscErrorCode RigidAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
+  fdem::model::RigidFields f;
+  PetscFunctionBegin;
+  *sum   = 0;
+  *count = rb_->n;
+  PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
+  for (PetscInt b = 0; b < rb_->n; ++b) *sum += f.radius[b];
+  PetscCall(fdem::model::RigidRestoreFields(rb_->sw, f));
+  *sum *= 0.1;
+  PetscFunctionReturn(0);
+}
+} // namespace fdem::contact

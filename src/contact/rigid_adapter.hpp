@@ -1,0 +1,43 @@
+// Internal: rigid bodies as a body kind of the contact engine. Each local body lends
+// the tetrahedra of its contact skin, placed in the world (x + R p) with the vertex
+// velocities v + omega x (p - x); the nodal forces come back summed into the body's
+// force and torque about its centre of mass.
+#pragma once
+#include "engine.hpp"
+#include "../model/rigid_impl.hpp"
+
+namespace fdem::contact {
+class RigidAdapter : public Adapter {
+public:
+  explicit RigidAdapter(FDEMRigid rb) : rb_(rb) {}
+  // Before each evaluation: positions q = [x | R] and state u = [x | R | v | H] (velocities;
+  // may be null without damping and friction) of the rb->n local bodies (RigidLayout); the
+  // forces and torques are added to FM = [F | M].
+  void Bind(const PetscScalar *q, const PetscScalar *u, PetscScalar *FM) {
+    q_  = q;
+    u_  = u;
+    fm_ = FM;
+  }
+  PetscErrorCode List(std::vector<Primitive> &prims) override;
+  PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
+  PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
+  PetscErrorCode MaxMove(PetscReal *move) override;
+  PetscErrorCode Searched() override;
+  const char    *KindName() const override { return "rigid"; }
+  PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
+  std::string    BodyName(const Primitive &p) const override;
+  std::string    ElementName(const Primitive &p) const override;
+  PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) override;
+  PetscInt       NumBodies() const { return rb_->n; }
+
+private:
+  FDEMRigid             rb_;
+  const PetscScalar    *q_ = nullptr, *u_ = nullptr;
+  PetscScalar          *fm_ = nullptr;
+  std::vector<PetscInt>  body_, skin_;  // per listed body (with a skin): local index, skin
+  std::vector<PetscReal> radius_, ref_; // per listed body: bounding radius, [x | R] at the last search
+  std::vector<int>       prim_body_;    // per primitive: its listed body
+  std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron
+  std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
+};
+} // namespace fdem::contact
