@@ -191,7 +191,10 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(FDEMSceneCreate(comm, &s.sc));
   if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
   if (s.dfm) PetscCall(FDEMSceneSetDeformable(s.sc, s.dfm));
-  if (sc.contact.present && s.rb && s.dfm) PetscCall(FDEMSceneSetContact(s.sc, sc.contact.penalty, sc.contact.normal_damping, sc.contact.friction, sc.contact.buffer > 0 ? sc.contact.buffer : -1));
+  if (sc.contact.present && s.rb && s.dfm) {
+    PetscCall(FDEMSceneSetContact(s.sc, sc.contact.penalty, sc.contact.normal_damping, sc.contact.friction, sc.contact.buffer > 0 ? sc.contact.buffer : -1));
+    PetscCall(FDEMSceneSetContactTangentialViscosity(s.sc, sc.contact.tangential_viscosity));
+  }
   PetscCall(FDEMSceneSetFromOptions(s.sc));
   PetscFunctionReturn(0);
 }
