@@ -8,11 +8,11 @@
 
      FDEMDeformableSetUp(dfm);
      FDEMDeformableContactCreate(dfm, &c);      takes the external-force hook of dfm
-     FDEMDeformableContactSetFromOptions(c);    -fdem_dcontact_penalty is required
+     FDEMDeformableContactSetFromOptions(c);    -fdem_contact_penalty is required
      FDEMDeformableSetUpTS(dfm, ts, &U); TSSolve(ts, U);
      FDEMDeformableContactDestroy(&c);          before FDEMDeformableDestroy
 
-   Options (-fdem_dcontact_*):
+   Options (-fdem_contact_*):
      penalty <Pa>                  the penalty (a modulus: a face pushed a depth d into a tetrahedron of
                                    height H over that face feels a pressure ~ penalty d / H); required
      damping <Pa s/m>              normal contact damping per unit approach speed

@@ -19,7 +19,7 @@
      FDEMSceneCreate(comm, &sc);
      FDEMSceneSetRigid(sc, rb);          optional; rb set up with its bodies (and FDEMContact, if any)
      FDEMSceneSetDeformable(sc, dfm);    optional; after FDEMDeformableSetUp
-     FDEMSceneSetFromOptions(sc);        -fdem_scene_contact_penalty etc.
+     FDEMSceneSetFromOptions(sc);        -fdem_contact_penalty etc.
      FDEMSceneSetUpTS(sc, ts, &U);
      TSSolve(ts, U);
      FDEMSceneRestoreState(sc, U);       copies U back into the swarm and the mesh's x, v
@@ -50,9 +50,9 @@ PETSC_EXTERN PetscErrorCode FDEMSceneSetDeformable(FDEMScene sc, FDEMDeformable 
    (Pa s/m) and friction (Coulomb mu) as fdem::kernels::ContactDampingFriction;
    buffer: search buffer (length), re-search when something moved more than
    half of it (< 0: 20% of the mean bounding radius of the tetrahedra involved).
-   Options: -fdem_scene_contact_penalty, -fdem_scene_contact_damping,
-   -fdem_scene_contact_friction, -fdem_scene_contact_tangential_viscosity,
-   -fdem_scene_contact_buffer.
+   Options: -fdem_contact_penalty, -fdem_contact_damping,
+   -fdem_contact_friction, -fdem_contact_tangential_viscosity,
+   -fdem_contact_buffer.
 
    Parallel: at each search every rank's region (the box of the bounding
    spheres of its mesh contact cells, + buffer/2) is shared (MPI_Allgather, 6
