@@ -170,6 +170,7 @@ int main(int argc, char **argv) {
   static char helpopt[] = "-help", noprog[] = "-fdem_progress", no[] = "0";
   if (help) args.insert(args.end(), {helpopt, noprog, no});
   int    pargc = (int)args.size();
+  args.push_back(nullptr); // argv[argc] == NULL, as MPI_Init reads it
   char **pargv = args.data();
   PetscCall(PetscInitialize(&pargc, &pargv, nullptr, nullptr));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
