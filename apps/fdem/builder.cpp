@@ -51,7 +51,7 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
   PetscCall(FDEMRigidSetGravity(s.rb, g));
   PetscCall(FDEMRigidSetFromOptions(s.rb));
   PetscInt moving = 0;
-  for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed;
+  for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed && !sc.bodies[i].moved;
   if (sc.contact.present && s.rigid_bodies.size() >= 2 && moving > 0) {
     PetscCall(FDEMContactCreate(s.rb, &s.rc));
     PetscCall(FDEMContactSetPenalty(s.rc, sc.contact.penalty));
@@ -67,15 +67,44 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
     for (const auto &p : m.nodes) nodes.insert(nodes.end(), {p.x, p.y, p.z});
     for (const auto &t : m.tets) tets.insert(tets.end(), t.begin(), t.end());
     const Material *mat     = sc.FindMaterial(b.material);
-    const PetscReal density = mat ? mat->density : 1000; // a fixed body without material: any density
+    const PetscReal density = mat ? mat->density : 1000; // a fixed or moved body without material: any density
     PetscReal       Q[9], x[3] = {b.position.x, b.position.y, b.position.z}, v[3] = {b.velocity.x, b.velocity.y, b.velocity.z},
               w[3] = {b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z};
     RowMajor(b.rotation, Q);
     PetscInt id;
     PetscCall(FDEMRigidAddBodyFromMesh(s.rb, b.name.c_str(), (PetscInt)m.nodes.size(), nodes.data(), (PetscInt)m.tets.size(), tets.data(), density, x, Q, v, w, &id));
     if (b.fixed) PetscCall(FDEMRigidFixBody(s.rb, id));
+    if (b.moved) {
+      const PetscReal mv[3] = {b.move_velocity.x, b.move_velocity.y, b.move_velocity.z};
+      PetscCall(FDEMRigidMoveBody(s.rb, id, mv));
+    }
   }
   PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &s.nrigid));
+  PetscFunctionReturn(0);
+}
+
+// The nodes of node set `ns` of body b (mesh m, merged numbering from `base`), appended to ids.
+PetscErrorCode SelectNodes(const Sim &s, const Body &b, const NodeSet &ns, const char *key, const kernels::TetMesh &m, PetscInt base, std::vector<PetscInt> &ids) {
+  PetscFunctionBeginUser;
+  if (ns.kind == NodeSet::Below || ns.kind == NodeSet::Above)
+    for (size_t n = 0; n < m.nodes.size(); ++n) {
+      const Vec3 p = b.position + b.rotation * m.nodes[n];
+      if ((ns.kind == NodeSet::Below && p[ns.axis] <= ns.value) || (ns.kind == NodeSet::Above && p[ns.axis] >= ns.value)) ids.push_back(base + (PetscInt)n);
+    }
+  if (ns.kind == NodeSet::Group) {
+    const auto it = std::find(m.body_names.begin(), m.body_names.end(), ns.group);
+    if (it == m.body_names.end()) {
+      std::string known;
+      for (const auto &n : m.body_names) known += (known.empty() ? "" : ", ") + n;
+      SETERRQ(s.comm, PETSC_ERR_USER_INPUT, "%s: body '%s'.%s.group: the mesh has no physical volume '%s' (it has: %s)", ns.where.c_str(), b.name.c_str(), key, ns.group.c_str(), known.c_str());
+    }
+    const int g = (int)(it - m.body_names.begin());
+    for (size_t e = 0; e < m.tets.size(); ++e)
+      if (m.body[e] == g)
+        for (int c : m.tets[e]) ids.push_back(base + c);
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   PetscFunctionReturn(0);
 }
 
@@ -83,6 +112,7 @@ PetscErrorCode BuildDeformable(Sim &s) {
   const Scene                 &sc = *s.scene;
   std::vector<PetscReal>       nodes;
   std::vector<PetscInt>        tets, body, fixed;
+  std::vector<std::vector<PetscInt>> moved(s.deformable_bodies.size()); // per deformable body
   std::vector<std::string>     names;
   std::vector<const char *>    cnames;
   VelocityField                vf{&sc, {}};
@@ -98,19 +128,11 @@ PetscErrorCode BuildDeformable(Sim &s) {
       const Vec3 p = b.position + b.rotation * m.nodes[n];
       nodes.insert(nodes.end(), {p.x, p.y, p.z});
       vf.node_body.push_back(s.deformable_bodies[k]);
-      if ((b.fix.kind == NodeSet::Below && p[b.fix.axis] <= b.fix.value) || (b.fix.kind == NodeSet::Above && p[b.fix.axis] >= b.fix.value)) fixed.push_back(base + (PetscInt)n);
     }
-    if (b.fix.kind == NodeSet::Group) {
-      const auto it = std::find(m.body_names.begin(), m.body_names.end(), b.fix.group);
-      if (it == m.body_names.end()) {
-        std::string known;
-        for (const auto &n : m.body_names) known += (known.empty() ? "" : ", ") + n;
-        SETERRQ(s.comm, PETSC_ERR_USER_INPUT, "%s: body '%s'.fix.group: the mesh has no physical volume '%s' (it has: %s)", b.fix.where.c_str(), b.name.c_str(), b.fix.group.c_str(), known.c_str());
-      }
-      const int g = (int)(it - m.body_names.begin());
-      for (size_t e = 0; e < m.tets.size(); ++e)
-        if (m.body[e] == g)
-          for (int c : m.tets[e]) fixed.push_back(base + c);
+    PetscCall(SelectNodes(s, b, b.fix, "fix", m, base, fixed));
+    if (b.moved) {
+      PetscCall(SelectNodes(s, b, b.move, "move", m, base, moved[k]));
+      PetscCheck(!moved[k].empty(), s.comm, PETSC_ERR_USER_INPUT, "%s: body '%s'.move: the node set holds no node", b.move.where.c_str(), b.name.c_str());
     }
     for (size_t e = 0; e < m.tets.size(); ++e) {
       for (int c : m.tets[e]) tets.push_back(base + c);
@@ -140,8 +162,20 @@ PetscErrorCode BuildDeformable(Sim &s) {
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
   PetscCall(FDEMDeformableFixNodes(s.dfm, root ? (PetscInt)fixed.size() : 0, fixed.data(), &s.nfixed_nodes));
+  for (size_t k = 0; k < moved.size(); ++k) { // a node both fixed and moved moves
+    const Body &b = sc.bodies[s.deformable_bodies[k]];
+    if (!b.moved) continue;
+    const PetscReal v[3] = {b.move_velocity.x, b.move_velocity.y, b.move_velocity.z};
+    PetscInt        n;
+    PetscCall(FDEMDeformableMoveNodes(s.dfm, root ? (PetscInt)moved[k].size() : 0, moved[k].data(), v, &n));
+    s.nmoved_nodes += n;
+  }
+  std::vector<PetscInt> held = fixed;
+  for (const auto &m : moved) held.insert(held.end(), m.begin(), m.end());
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
   PetscCall(FDEMDeformableSetVelocityField(s.dfm, InitialVelocity, &vf));
-  s.ndofs += 3 * (s.nnodes - s.nfixed_nodes);
+  s.ndofs += 3 * (s.nnodes - (PetscInt)held.size());
   if (sc.contact.present && s.deformable_bodies.size() >= 2) {
     PetscCall(FDEMDeformableContactCreate(s.dfm, &s.dc));
     PetscCall(FDEMDeformableContactSetPenalty(s.dc, sc.contact.penalty));
@@ -186,7 +220,7 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     }
   }
   if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
-  for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed ? 0 : 6;
+  for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
   if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s));
   PetscCall(FDEMSceneCreate(comm, &s.sc));
   if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
@@ -272,6 +306,22 @@ PetscErrorCode SimStableStep(Sim &s, const char *scheme, PetscReal safety, Stabl
   PetscFunctionReturn(0);
 }
 
+// The work of the prescribed motions (moved rigid bodies and mesh nodes) so far. Collective.
+static PetscErrorCode ExternalWork(Sim &s, PetscReal *W) {
+  PetscReal w;
+  PetscFunctionBeginUser;
+  *W = 0;
+  if (s.rb) {
+    PetscCall(FDEMRigidGetExternalWork(s.rb, &w));
+    *W += w;
+  }
+  if (s.dfm) {
+    PetscCall(FDEMDeformableGetExternalWork(s.dfm, &w));
+    *W += w;
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SimBalance(Sim &s, Balance &b) {
   PetscReal E[4];
   PetscFunctionBeginUser;
@@ -305,14 +355,18 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     PetscCall(DMSwarmGetField(sw, "x", nullptr, nullptr, (void **)&x));
     PetscCall(DMSwarmGetField(sw, "mass", nullptr, nullptr, (void **)&m));
     PetscCall(DMSwarmGetField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
-    for (PetscInt i = 0; i < n; ++i)
-      if (!fixed[i]) loc -= m[i] * (g.x * x[3 * i] + g.y * x[3 * i + 1] + g.z * x[3 * i + 2]);
+    PetscReal *v;
+    PetscCall(DMSwarmGetField(sw, "v", nullptr, nullptr, (void **)&v));
+    for (PetscInt i = 0; i < n; ++i) // moving and moved bodies (a moved body is fixed with v != 0)
+      if (!fixed[i] || v[3 * i] != 0 || v[3 * i + 1] != 0 || v[3 * i + 2] != 0) loc -= m[i] * (g.x * x[3 * i] + g.y * x[3 * i + 1] + g.z * x[3 * i + 2]);
+    PetscCall(DMSwarmRestoreField(sw, "v", nullptr, nullptr, (void **)&v));
     PetscCall(DMSwarmRestoreField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
     PetscCall(DMSwarmRestoreField(sw, "mass", nullptr, nullptr, (void **)&m));
     PetscCall(DMSwarmRestoreField(sw, "x", nullptr, nullptr, (void **)&x));
     PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPIU_REAL, MPI_SUM, s.comm));
     b.gravity += glob;
   }
+  PetscCall(ExternalWork(s, &b.external_work));
   b.total = b.kinetic + b.strain + b.contact + b.gravity;
   if (!s.have_E0) {
     s.E0      = b.total;
@@ -441,13 +495,16 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
     PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecView(p.nr, v));
   }
-  PetscCall(VecCreateMPI(s.comm, rank == 0 ? 4 : 0, 4, &meta));
-  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  PetscReal W;
+  PetscCall(ExternalWork(s, &W));
+  PetscCall(VecCreateMPI(s.comm, rank == 0 ? 5 : 0, 5, &meta));
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt_W"));
   if (rank == 0) {
     PetscCall(VecSetValue(meta, 0, t, INSERT_VALUES));
     PetscCall(VecSetValue(meta, 1, (PetscReal)step, INSERT_VALUES));
     PetscCall(VecSetValue(meta, 2, s.E0, INSERT_VALUES));
     PetscCall(VecSetValue(meta, 3, dt, INSERT_VALUES));
+    PetscCall(VecSetValue(meta, 4, W, INSERT_VALUES));
   }
   PetscCall(VecAssemblyBegin(meta));
   PetscCall(VecAssemblyEnd(meta));
@@ -481,12 +538,12 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   }
   PetscMPIInt rank0;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
-  PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 4 : 0, 4, &meta)); // all on rank 0
-  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt"));
+  PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 5 : 0, 5, &meta)); // all on rank 0
+  PetscCall(PetscObjectSetName((PetscObject)meta, "meta_t_step_E0_dt_W"));
   PetscCall(VecLoad(meta, v));
   {
     const PetscScalar *m;
-    PetscReal          buf[4] = {0, 0, 0, 0};
+    PetscReal          buf[5] = {0, 0, 0, 0, 0};
     PetscMPIInt        rank;
     PetscInt           lo;
     PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
@@ -495,10 +552,12 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
     if (lo == 0) {
       PetscInt nl;
       PetscCall(VecGetLocalSize(meta, &nl));
-      for (PetscInt i = 0; i < nl && i < 4; ++i) buf[i] = m[i];
+      for (PetscInt i = 0; i < nl && i < 5; ++i) buf[i] = m[i];
     }
     PetscCall(VecRestoreArrayRead(meta, &m));
-    PetscCallMPI(MPI_Bcast(buf, 4, MPIU_REAL, 0, s.comm));
+    PetscCallMPI(MPI_Bcast(buf, 5, MPIU_REAL, 0, s.comm));
+    if (s.rb) PetscCall(FDEMRigidSetExternalWork(s.rb, s.dfm ? 0 : buf[4]));
+    if (s.dfm) PetscCall(FDEMDeformableSetExternalWork(s.dfm, buf[4]));
     *dt       = buf[3];
     *t        = buf[0];
     *step     = (PetscInt)std::llround(buf[1]);

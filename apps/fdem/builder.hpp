@@ -43,7 +43,7 @@ struct Sim {
   TS                            ts    = nullptr;
   Vec                           U     = nullptr;
   std::vector<int>              rigid_bodies, deformable_bodies; // scene body indices per model
-  PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0;
+  PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0, nmoved_nodes = 0;
   double                        E0    = 0; // total energy at the start (for `dissipated`)
   bool                          have_E0 = false;
 };
@@ -67,7 +67,7 @@ PetscErrorCode SimBalance(Sim &sim, Balance &b);
 PetscErrorCode SimWriteOutput(Sim &sim, const std::string &dir, PetscInt step, PetscReal t);
 // Checkpoint of the models' stored state (call after SimRestore/SimEndTS): one HDF5 file through
 // PETSc's viewer, with the mesh's x, v by node id, the rigid bodies' x, R, v, H by body id and
-// meta = [t, step, E0, dt]. Written by the caller to a temporary name and renamed.
+// meta = [t, step, E0, dt, external work]. Written by the caller to a temporary name and renamed.
 PetscErrorCode SimWriteCheckpoint(Sim &sim, const char *file, PetscReal t, PetscInt step, PetscReal dt);
 // Loads a checkpoint into the models (any rank count) and migrates the rigid bodies; gives t, step and dt.
 PetscErrorCode SimReadCheckpoint(Sim &sim, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt);

@@ -51,6 +51,7 @@ print("wrote " + d + "/balance.png")
 // name ("deformable body 'slab'", "bodies 'a' and 'b'"): add the scene's names
 // and where each body is written, and start with the first body's file:line:col.
 std::string NameBodies(const Scene &sc, std::string msg) {
+  if (msg.rfind(sc.file + ":", 0) == 0) return msg; // the driver's own message, already placed
   std::vector<const Body *> rigid;
   for (const auto &b : sc.bodies)
     if (b.model == "rigid") rigid.push_back(&b);

@@ -137,7 +137,7 @@ const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
 const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
-const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix"};
+const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move"};
 const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "mesh"};
 const std::vector<std::string> kBodyModel = {"rigid", "deformable"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
@@ -213,11 +213,14 @@ Shape ReadShape(const Reader &r, const std::string &w, const YAML::Node &n, cons
   return s;
 }
 
-NodeSet ReadNodeSet(const Reader &r, const std::string &w, const YAML::Node &n) {
+// fix: {below|above|group}; move: the same and velocity (moving = true).
+NodeSet ReadNodeSet(const Reader &r, const std::string &w, const YAML::Node &n, bool moving = false) {
   NodeSet s;
   s.where = r.At(n);
-  r.Keys(n, w, {"below", "above", "group"});
-  if (n.size() != 1) r.Fail(n, w + ": give exactly one of below: [axis, value], above: [axis, value] or group: name");
+  if (moving) r.Keys(n, w, {"below", "above", "group", "velocity"});
+  else r.Keys(n, w, {"below", "above", "group"});
+  if (n.size() != 1u + (moving ? 1u : 0u) || (moving && !n["velocity"]))
+    r.Fail(n, w + (moving ? ": give the velocity: [vx, vy, vz] and exactly one of below: [axis, value], above: [axis, value] or group: name" : ": give exactly one of below: [axis, value], above: [axis, value] or group: name"));
   if (n["group"]) {
     s.kind  = NodeSet::Group;
     s.group = r.String(n["group"], w + ".group");
@@ -248,7 +251,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     if (b.model != "rigid") r.Fail(n["fixed"], w + ".fixed: only rigid bodies are fixed as a whole; fix the nodes of a deformable body with fix: {below: [axis, value]}, {above: ...} or {group: name}");
   }
   if (n["material"]) b.material = r.String(n["material"], w + ".material");
-  else if (!b.fixed) r.Fail(n, w + ": missing required key 'material' (only a fixed rigid body may omit it)");
+  else if (!b.fixed && !(b.model == "rigid" && n["move"])) r.Fail(n, w + ": missing required key 'material' (only a fixed or moved rigid body may omit it)");
   if (n["resolution"]) b.resolution = r.Positive(n["resolution"], w + ".resolution");
   if (n["position"]) b.position = r.Vector(n["position"], w + ".position");
   if (n["velocity"]) b.velocity = r.Vector(n["velocity"], w + ".velocity");
@@ -265,6 +268,20 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     if (b.model != "deformable") r.Fail(n["fix"], w + ".fix: node sets belong to deformable bodies; a rigid body is held with fixed: true");
     b.fix = ReadNodeSet(r, w + ".fix", n["fix"]);
     if (b.fix.kind == NodeSet::Group && b.shape.kind != ShapeKind::Mesh) r.Fail(n["fix"], w + ".fix.group: physical groups exist only for shape {mesh: ...}");
+  }
+  if (n["move"]) {
+    const YAML::Node m = n["move"];
+    b.moved            = true;
+    b.move_where       = r.At(m);
+    if (b.model == "rigid") {
+      r.Keys(m, w + ".move", {"velocity"});
+      if (b.fixed) r.Fail(m, w + ".move: a body is either fixed: true or moved, not both");
+      if (n["velocity"] || n["angular_velocity"]) r.Fail(n["velocity"] ? n["velocity"] : n["angular_velocity"], w + ": a moved body's velocity is move.velocity (it moves without turning); remove velocity/angular_velocity");
+    } else {
+      b.move = ReadNodeSet(r, w + ".move", m, true);
+      if (b.move.kind == NodeSet::Group && b.shape.kind != ShapeKind::Mesh) r.Fail(m, w + ".move.group: physical groups exist only for shape {mesh: ...}");
+    }
+    b.move_velocity = r.Vector(r.Required(m, "velocity", w + ".move"), w + ".move.velocity");
   }
   return b;
 }
@@ -432,7 +449,8 @@ const char *SceneKeysHelp() {
          "  bodies: list of\n"
          "    {name, model: rigid|deformable, material, shape, resolution: element size,\n"
          "     position: [x,y,z], rotation: {axis: [x,y,z], degrees}, velocity: [..], angular_velocity: [..],\n"
-         "     fixed: true (rigid), fix: {below: [axis, value]} | {above: [axis, value]} | {group: NAME} (deformable)}\n"
+         "     fixed: true (rigid), fix: {below: [axis, value]} | {above: [axis, value]} | {group: NAME} (deformable),\n"
+         "     move: {velocity: [..]} (rigid: a platen) | {velocity: [..], below|above|group: ...} (deformable: nodes held at v)}\n"
          "    shape: {box: [lx, ly, lz]} | {sphere: r} | {ellipsoid: [a, b, c]} | {cylinder: {radius, height}}\n"
          "         | {convex_hull: [[x,y,z], ...]} | {pebble: {size, seed}} | {mesh: FILE.msh} | {mesh: {file, group}}\n"
          "  generate: list of {pack: {count, like: BODY, region: {lo: [..], hi: [..]}, scale: [min, max], seed}}\n"

@@ -57,6 +57,10 @@ struct Body {
   Mat3        rotation = Mat3::identity();
   bool        fixed    = false;     // rigid
   NodeSet     fix;                  // deformable
+  bool        moved    = false;     // move: a rigid body (platen) or a node set moved at move_velocity
+  NodeSet     move;                 // deformable: the moved nodes
+  Vec3        move_velocity;
+  Where       move_where;
   Where       where;
 };
 

@@ -119,6 +119,16 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetVelocityField(FDEMDeformable dfm, F
    number of fixed nodes. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable dfm, PetscInt n, const PetscInt ids[], PetscInt *nfixed);
 PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable dfm, const PetscReal lo[3], const PetscReal hi[3], PetscInt *nfixed);
+/* Moved nodes (a prescribed-velocity boundary): the listed nodes (global ids, any rank may
+   list any id) keep the velocity v for ever, their positions advance with it; like fixed
+   nodes they get no acceleration. *nmoved (may be NULL): the number of ids listed that
+   exist. The work the held motion does on the rest, the integral of sum R . v over the
+   force evaluations (R = -(internal + external + gravity force) of the node; trapezoidal
+   rule in time, exact for the impulses of the central-difference scheme), is given by
+   GetExternalWork (collective); SetExternalWork restores it on restart. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableMoveNodes(FDEMDeformable dfm, PetscInt n, const PetscInt ids[], const PetscReal v[3], PetscInt *nmoved);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetExternalWork(FDEMDeformable dfm, PetscReal *W);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalWork(FDEMDeformable dfm, PetscReal W);
 
 /* Assembled nodal forces at the state U (a TS state [x | v] from
    FDEMDeformableSetUpTS, or NULL for the stored x, v): F = f_int + f_ext

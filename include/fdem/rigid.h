@@ -56,6 +56,15 @@ PETSC_EXTERN PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *n
 
 /* Fixes body id in place (walls, floors): forces never move it. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id);
+/* Moves body id at the constant velocity v for ever (a platen): forces never change its
+   motion, it translates without turning. Contact treats it as a fixed body (no pair with
+   another fixed or moved body). The work of the reactions that hold it, the integral of
+   R . v over the force evaluations (R = -(the force on the body, gravity and contact
+   included); trapezoidal rule in time), is given by GetExternalWork (collective);
+   SetExternalWork restores it on restart. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMRigidMoveBody(FDEMRigid rb, PetscInt id, const PetscReal v[3]);
+PETSC_EXTERN PetscErrorCode FDEMRigidGetExternalWork(FDEMRigid rb, PetscReal *W);
+PETSC_EXTERN PetscErrorCode FDEMRigidSetExternalWork(FDEMRigid rb, PetscReal W);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetDM(FDEMRigid rb, DM *swarm);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *nglobal);
 

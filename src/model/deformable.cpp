@@ -173,7 +173,8 @@ static PetscErrorCode SetField(FDEMDeformable d, Vec target, FDEMDeformableField
   for (PetscInt k = 0; k < d->nown; ++k) {
     PetscReal in[3] = {Xa[3 * k], Xa[3 * k + 1], Xa[3 * k + 2]}, out[3] = {0, 0, 0};
     PetscCall(fn(d->owned_gid[k], in, out, ctx));
-    if (velocity && d->fixed[k]) out[0] = out[1] = out[2] = 0;
+    if (velocity && d->fixed[k])
+      for (int c = 0; c < 3; ++c) out[c] = d->vfix[3 * k + c];
     for (int c = 0; c < 3; ++c) t[3 * k + c] = out[c];
   }
   PetscCall(VecRestoreArray(target, &t));
@@ -202,7 +203,7 @@ static PetscErrorCode FinishFix(FDEMDeformable d, PetscInt *nfixed) {
   PetscCall(VecGetArray(d->v, &va));
   for (PetscInt k = 0; k < d->nown; ++k)
     if (d->fixed[k]) {
-      va[3 * k] = va[3 * k + 1] = va[3 * k + 2] = 0;
+      for (int c = 0; c < 3; ++c) va[3 * k + c] = d->vfix[3 * k + c];
       ++n;
     }
   PetscCall(VecRestoreArray(d->v, &va));
@@ -210,9 +211,10 @@ static PetscErrorCode FinishFix(FDEMDeformable d, PetscInt *nfixed) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable d, PetscInt n, const PetscInt ids[], PetscInt *nfixed) {
+// Fixes (vel = NULL) or moves (held velocity vel) the nodes listed on any rank; *nset: how many nodes are listed.
+static PetscErrorCode HoldNodes(FDEMDeformable d, const char *fn, PetscInt n, const PetscInt ids[], const PetscReal vel[3], PetscInt *nset) {
   PetscFunctionBegin;
-  PetscCall(CheckSetUp(d, "FDEMDeformableFixNodes"));
+  PetscCall(CheckSetUp(d, fn));
   // every rank's list reaches every rank
   PetscMPIInt           ln = (PetscMPIInt)n;
   std::vector<int>      counts(d->size), displs(d->size, 0);
@@ -224,11 +226,47 @@ PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable d, PetscInt n, const PetscI
   for (PetscInt id : all) {
     if (id < 0 || id >= d->nnodes_global) bad = PetscMax(bad, id < 0 ? PETSC_MAX_INT : id);
     auto it = d->owned_of_gid.find(id);
-    if (it != d->owned_of_gid.end()) d->fixed[it->second] = 1;
+    if (it == d->owned_of_gid.end()) continue;
+    d->fixed[it->second] = 1;
+    for (int c = 0; c < 3; ++c) d->vfix[3 * it->second + c] = vel ? vel[c] : 0;
   }
   PetscCallMPI(MPI_Allreduce(&bad, &gbad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(gbad < 0, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMDeformableFixNodes: node id %" PetscInt_FMT " is not in [0, %" PetscInt_FMT ")", gbad == PETSC_MAX_INT ? -1 : gbad, d->nnodes_global);
+  PetscCheck(gbad < 0, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: node id %" PetscInt_FMT " is not in [0, %" PetscInt_FMT ")", fn, gbad == PETSC_MAX_INT ? -1 : gbad, d->nnodes_global);
+  if (vel && (vel[0] != 0 || vel[1] != 0 || vel[2] != 0)) d->moved = true;
+  if (nset) {
+    PetscInt mine = 0;
+    for (PetscInt id : all) mine += d->owned_of_gid.count(id) ? 1 : 0;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPIU_INT, MPI_SUM, d->comm));
+    *nset = mine;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable d, PetscInt n, const PetscInt ids[], PetscInt *nfixed) {
+  PetscFunctionBegin;
+  PetscCall(HoldNodes(d, "FDEMDeformableFixNodes", n, ids, nullptr, nullptr));
   PetscCall(FinishFix(d, nfixed));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableMoveNodes(FDEMDeformable d, PetscInt n, const PetscInt ids[], const PetscReal v[3], PetscInt *nmoved) {
+  PetscFunctionBegin;
+  PetscCall(HoldNodes(d, "FDEMDeformableMoveNodes", n, ids, v, nmoved));
+  PetscCall(FinishFix(d, nullptr));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetExternalWork(FDEMDeformable d, PetscReal *W) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetExternalWork"));
+  PetscCall(MPIU_Allreduce(&d->meter.work, W, 1, MPIU_REAL, MPIU_SUM, d->comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetExternalWork(FDEMDeformable d, PetscReal W) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableSetExternalWork"));
+  d->meter.Reset(d->rank == 0 ? W : 0);
   PetscFunctionReturn(0);
 }
 
@@ -240,7 +278,9 @@ PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable d, const PetscReal lo[
   for (PetscInt k = 0; k < d->nown; ++k) {
     bool in = true;
     for (int c = 0; c < 3; ++c) in = in && Xa[3 * k + c] >= lo[c] && Xa[3 * k + c] <= hi[c];
-    if (in) d->fixed[k] = 1;
+    if (!in) continue;
+    d->fixed[k] = 1;
+    for (int c = 0; c < 3; ++c) d->vfix[3 * k + c] = 0;
   }
   PetscCall(VecRestoreArrayRead(d->X, &Xa));
   PetscCall(FinishFix(d, nfixed));

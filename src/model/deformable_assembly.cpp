@@ -65,14 +65,18 @@ PetscErrorCode fdem::model::DeformableAcceleration(FDEMDeformable d, PetscReal t
   PetscCall(CheckSetUp(d, "DeformableAcceleration"));
   PetscCall(AssembleForces(d, t, xo, vo, a));
   PetscCall(VecGetArrayRead(d->minv, &mi));
+  PetscReal power = 0; // of the reactions R = -(f + m g) that hold the moved nodes
   for (PetscInt k = 0; k < d->nown; ++k) {
     if (d->fixed[k]) {
+      if (d->moved)
+        for (int c = 0; c < 3; ++c) power -= (PetscRealPart(a[3 * k + c]) + d->g[c] / PetscRealPart(mi[3 * k + c])) * d->vfix[3 * k + c];
       a[3 * k] = a[3 * k + 1] = a[3 * k + 2] = 0;
       continue;
     }
     for (int c = 0; c < 3; ++c) a[3 * k + c] = a[3 * k + c] * mi[3 * k + c] + d->g[c];
   }
   PetscCall(VecRestoreArrayRead(d->minv, &mi));
+  if (d->moved) d->meter.Sample(t, power);
   PetscFunctionReturn(0);
 }
 
@@ -138,7 +142,7 @@ PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable d, TS ts, Vec *U) {
   PetscCall(VecGetArrayRead(d->v, &va));
   for (PetscInt i = 0; i < n; ++i) {
     u[i]     = xa[i];
-    u[n + i] = d->fixed[i / 3] ? 0 : va[i];
+    u[n + i] = d->fixed[i / 3] ? d->vfix[i] : va[i];
   }
   PetscCall(VecRestoreArrayRead(d->v, &va));
   PetscCall(VecRestoreArrayRead(d->x, &xa));

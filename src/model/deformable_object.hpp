@@ -18,6 +18,7 @@
 //  - cell_gid / node_gid: global (input) ids of local cells and nodes, carried
 //    through the distribution by broadcasting over the migration SF.
 #pragma once
+#include "work_meter.hpp"
 #include <fdem/deformable.h>
 #include <fdem/kernels/cst.hpp>
 #include <fdem/kernels/tetmesh.hpp>
@@ -60,7 +61,10 @@ struct _n_FDEMDeformable {
   fdem::kernels::ElementData ed;
   std::vector<PetscInt>      cell_gid, node_gid, owned_gid, owned_local, node_global; // node_global: global vertex number per local node
   std::unordered_map<PetscInt, PetscInt> owned_of_gid;
-  std::vector<char>          fixed; // per owned node
+  std::vector<char>          fixed; // per owned node (fixed or moved: no acceleration)
+  std::vector<PetscReal>     vfix;  // per owned node, 3 each: the held velocity (0 for fixed nodes)
+  bool                       moved = false; // some node has a nonzero held velocity
+  fdem::model::WorkMeter     meter; // work of the reactions on moved nodes
   bool                       viscous = false;
   Vec                        x = nullptr, v = nullptr, X = nullptr, m = nullptr, minv = nullptr;
   Vec                        xloc = nullptr, vloc = nullptr, floc = nullptr, gwork = nullptr;

@@ -196,6 +196,7 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(VecCopy(d->m, d->minv));
   PetscCall(VecReciprocal(d->minv));
   d->fixed.assign(d->nown, 0);
+  d->vfix.assign(3 * d->nown, 0);
   PetscFunctionReturn(0);
 }
 

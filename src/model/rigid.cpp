@@ -72,6 +72,9 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
   PetscCall(VecGetArrayRead(Q, &q));
   PetscCall(VecGetArray(A, &a));
   const fdem::model::RigidLayout L(n);
+  const PetscScalar             *u = nullptr; // velocities of the moved bodies, for the power of their reactions
+  rb->power                      = 0;
+  if (rb->moved && rb->U) PetscCall(VecGetArrayRead(rb->U, &u));
   rb->FM.assign(6 * n, 0.0);
   for (const auto &term : rb->forces)
     if (term.model) PetscCall(term.model(rb, t, q, rb->FM.data(), term.ctx));
@@ -87,9 +90,20 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
       L.F(a, b)[k] = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
       L.M(a, b)[k] = rb->fixed[b] ? 0.0 : M[k];
     }
+    if (rb->fixed[b] && u)
+      for (int k = 0; k < 3; ++k) rb->power -= F[k] * PetscRealPart(u[12 * n + 3 * b + k]); // reaction R = -F
   }
+  if (u) PetscCall(VecRestoreArrayRead(rb->U, &u));
   PetscCall(VecRestoreArray(A, &a));
   PetscCall(VecRestoreArrayRead(Q, &q));
+  PetscFunctionReturn(0);
+}
+
+// The TS's momentum RHS of a rigid-only TS: RHSMomentum, then the work of the moved bodies.
+PetscErrorCode RHSMomentumWithWork(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
+  PetscFunctionBegin;
+  PetscCall(RHSMomentum(ts, t, Q, A, ctx));
+  fdem::model::RigidSampleWork((FDEMRigid)ctx, t, 0);
   PetscFunctionReturn(0);
 }
 
@@ -103,8 +117,12 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
   const auto kind = Kind(rb->rotation);
   PetscCall(fdem::Guard(rb->comm, [&]() -> PetscErrorCode {
     for (PetscInt b = 0; b < n; ++b) {
-      if (rb->fixed[b]) continue;
       PetscScalar *x = &u[3 * b], *R = &u[3 * n + 9 * b], *v = &u[12 * n + 3 * b], *H = &u[15 * n + 3 * b];
+      if (rb->fixed[b]) { // a moved body translates at its held velocity (0 for a fixed one)
+        if (rb->moved)
+          for (int k = 0; k < 3; ++k) x[k] += s * v[k];
+        continue;
+      }
       for (int k = 0; k < 3; ++k) x[k] += s * v[k];
       const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
       ToRowMajor(fdem::kernels::FreeRotate(kind, FromRowMajor(R), I, Vec3(H[0], H[1], H[2]), s), R);
@@ -383,7 +401,7 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(ISDestroy(&isq));
   PetscCall(ISDestroy(&isp));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "position", nullptr, RHSPosition, rb));
-  PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, rb));
+  PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentumWithWork, rb));
   PetscCall(FDEMTSSetDrift(ts, Drift, rb));
   PetscCall(TSSetSolution(ts, *U));
   rb->U = *U;
@@ -425,6 +443,39 @@ PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id) {
     }
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidMoveBody(FDEMRigid rb, PetscInt id, const PetscReal v[3]) {
+  PetscInt    n;
+  RigidFields f;
+  PetscFunctionBegin;
+  PetscCheck(id >= 0 && id < rb->next_id, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidMoveBody: no body with id %" PetscInt_FMT, id);
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
+  for (PetscInt b = 0; b < n; ++b)
+    if (f.id[b] == id) {
+      f.fixed[b] = 1;
+      for (int k = 0; k < 3; ++k) f.v[3 * b + k] = v[k], f.H[3 * b + k] = 0;
+    }
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
+  rb->moved = true;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidGetExternalWork(FDEMRigid rb, PetscReal *W) {
+  PetscFunctionBegin;
+  PetscCall(MPIU_Allreduce(&rb->meter.work, W, 1, MPIU_REAL, MPIU_SUM, rb->comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidSetExternalWork(FDEMRigid rb, PetscReal W) {
+  PetscFunctionBegin;
+  rb->meter.Reset(rb->rank == 0 ? W : 0);
+  PetscFunctionReturn(0);
+}
+
+void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
+  if (rb->moved) rb->meter.Sample(t, rb->power + extra);
 }
 
 PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {

@@ -1,5 +1,6 @@
 // Internal: the rigid-body container shared by src/model/rigid*.cpp.
 #pragma once
+#include "work_meter.hpp"
 #include <fdem/rigid.h>
 #include <fdem/kernels/vec3.hpp>
 
@@ -79,7 +80,12 @@ struct _n_FDEMRigid {
   // output
   std::vector<OutputRecord> outputs;
   // fixed bodies (walls, floors): never moved by forces
-  std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed)
+  std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed or moved)
+  // moved bodies (FDEMRigidMoveBody): fixed bodies with a held velocity; the power of their
+  // reactions at the last force evaluation (this rank) and its time integral
+  PetscReal              power = 0;
+  bool                   moved = false;
+  fdem::model::WorkMeter meter;
   Vec                   U = nullptr; // the TS state while a TS runs (borrowed)
   // the force chain: every term adds, none replaces (gravity comes first, from g)
   std::vector<fdem::model::RigidForceTerm> forces;
@@ -107,4 +113,7 @@ PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
 namespace fdem::model {
 PetscErrorCode RigidRHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *rb);
 PetscErrorCode RigidDrift(TS ts, PetscReal t, PetscReal s, Vec U, void *rb);
+// After RigidRHSMomentum (which sets rb->power from gravity and the force chain): adds the
+// power extra of forces added since on the moved bodies (contact) and samples the work meter.
+void RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra);
 } // namespace fdem::model

@@ -70,17 +70,22 @@ PetscErrorCode RigidMomentum(FDEMScene s, TS ts, PetscReal t, const PetscScalar 
   PetscCall(VecResetArray(s->vr_state));
   PetscCall(VecResetArray(s->vr_a));
   PetscCall(VecResetArray(s->vr_q));
+  PetscReal extra = 0; // power of the reaction to contact on moved bodies
   if (s->contact) { // rigid-deformable contact, computed with the mesh's forces
     const fdem::model::RigidLayout L(s->nr);
     const PetscScalar             *FM = s->c->RigidForces().data();
     for (PetscInt b = 0; b < s->nr; ++b) {
-      if (rb->fixed[b]) continue;
+      if (rb->fixed[b]) {
+        for (int k = 0; k < 3; ++k) extra -= PetscRealPart(L.F(FM, b)[k] * u[12 * s->nr + 3 * b + k]);
+        continue;
+      }
       for (int k = 0; k < 3; ++k) {
         L.F(a, b)[k] += L.F(FM, b)[k] / rb->mass[b];
         L.M(a, b)[k] += L.M(FM, b)[k];
       }
     }
   }
+  fdem::model::RigidSampleWork(rb, t, extra);
   PetscFunctionReturn(0);
 }
 

@@ -8,7 +8,8 @@ checks (each fails the test when not met; all bounds are relative):
   --dts a,b,...    run once per time step (-ts_dt) and require the --energy error to shrink with dt
   --ke-min T,R     the first local minimum of the kinetic energy lies at T within R*T
   --ke-period T,R  successive minima of the kinetic energy are T apart (mean) within R*T
-  --at-rest F      kinetic(end) <= F * (gravity(0) - gravity(end))  (potential energy released)"""
+  --at-rest F      kinetic(end) <= F * (gravity(0) - gravity(end))  (potential energy released)
+  --final C,V,R    column C of the last row equals V within R * |V|  (e.g. strain,0.02,1e-3)"""
 import csv, math, os, subprocess, sys, tempfile
 
 args = sys.argv[1:]
@@ -18,6 +19,7 @@ extra = []
 if "--" in rest:
     i = rest.index("--")
     rest, extra = rest[:i], rest[i + 1:]
+finals = [rest[i + 1] for i in range(0, len(rest), 2) if rest[i] == "--final"]
 checks = dict(zip(rest[0::2], rest[1::2]))
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
 failures = []
@@ -63,6 +65,12 @@ def check(name, value, bound):
     if not ok:
         failures.append(name)
 
+def check_finals(rows, tag):
+    for f in finals:
+        col, value, rel = f.split(",")
+        value, rel = float(value), float(rel)
+        check(f"{tag}{col} at the end {rows[-1][col]:.8g} vs {value:.8g} (relative difference)", abs(rows[-1][col] - value) / abs(value), rel)
+
 if "--dts" in checks:
     errs = []
     for dt in checks["--dts"].split(","):
@@ -70,6 +78,7 @@ if "--dts" in checks:
         errs.append(energy_error(rows))
         if "--momentum" in checks: check(f"dt {dt}: linear momentum drift", vec_drift(rows, ["px", "py", "pz"]), float(checks["--momentum"]))
         if "--energy" in checks: check(f"dt {dt}: energy balance error", errs[-1], float(checks["--energy"]))
+        check_finals(rows, f"dt {dt}: ")
     for i in range(1, len(errs)):
         check(f"energy error ratio dt {i} / dt {i - 1} (must shrink)", errs[i] / errs[i - 1], 0.95)
 else:
@@ -88,6 +97,7 @@ else:
         print(f"kinetic energy minima at {m}")
         per = (m[-1] - m[0]) / (len(m) - 1) if len(m) >= 2 else float("nan")
         check(f"kinetic energy period {per:.6g} s vs {T:.6g} s (relative difference)", abs(per - T) / T if len(m) >= 2 else 1e9, R)
+    check_finals(rows, "")
     if "--at-rest" in checks:
         released = rows[0]["gravity"] - rows[-1]["gravity"]
         check("kinetic energy at the end / potential energy released", rows[-1]["kinetic"] / released if released > 0 else 1e9, float(checks["--at-rest"]))
