@@ -29,17 +29,37 @@ void RowMajor(const Mat3 &Q, PetscReal out[9]) {
     for (int c = 0; c < 3; ++c) out[3 * r + c] = Q.m[r][c];
 }
 
-// The initial velocity field of the deformable bodies: v + w x (X - position) of the node's body.
-struct VelocityField {
-  const Scene            *scene;
-  std::vector<int>        node_body; // scene body index per merged node
+// The initial velocity of the deformable bodies: v + w x (X - centroid) + the velocity_field of the node's body.
+struct InitialField {
+  const Scene      *scene;
+  std::vector<int>  node_body; // scene body index per merged node
+  std::vector<Vec3> centroid;  // per scene body: the volume centroid of the placed mesh
 };
 PetscErrorCode InitialVelocity(PetscInt id, const PetscReal X[3], PetscReal out[3], void *ctx) {
-  const auto &f = *(VelocityField *)ctx;
-  const Body &b = f.scene->bodies[f.node_body[id]];
-  const Vec3  r = Vec3(X[0], X[1], X[2]) - b.position, v = b.velocity + cross(b.angular_velocity, r);
+  const auto &f  = *(InitialField *)ctx;
+  const int   bi = f.node_body[id];
+  const Body &b  = f.scene->bodies[bi];
+  const Vec3  x(X[0], X[1], X[2]);
+  Vec3        v = b.velocity + cross(b.angular_velocity, x - f.centroid[bi]);
+  if (b.velocity_field.kind != VelocityField::None) {
+    const auto &vf = b.velocity_field;
+    v              = v + vf.direction * (vf.amplitude * vf.Profile((x[vf.axis] - vf.from) / (vf.to - vf.from)));
+  }
   out[0] = v.x, out[1] = v.y, out[2] = v.z;
   return 0;
+}
+
+// Volume centroid of mesh m placed at b.position + b.rotation * X.
+Vec3 PlacedCentroid(const kernels::TetMesh &m, const Body &b) {
+  Vec3   c;
+  double V = 0;
+  for (const auto &t : m.tets) {
+    const Vec3  &p0 = m.nodes[t[0]], &p1 = m.nodes[t[1]], &p2 = m.nodes[t[2]], &p3 = m.nodes[t[3]];
+    const double v  = std::fabs(kernels::TetSignedVolume(p0, p1, p2, p3));
+    c               = c + (p0 + p1 + p2 + p3) * (0.25 * v);
+    V += v;
+  }
+  return b.position + b.rotation * (V > 0 ? c * (1 / V) : c);
 }
 
 PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
@@ -115,7 +135,7 @@ PetscErrorCode BuildDeformable(Sim &s) {
   std::vector<std::vector<PetscInt>> moved(s.deformable_bodies.size()); // per deformable body
   std::vector<std::string>     names;
   std::vector<const char *>    cnames;
-  VelocityField                vf{&sc, {}};
+  InitialField                 vf{&sc, {}, std::vector<Vec3>(sc.bodies.size())};
   PetscMPIInt                  rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
@@ -124,6 +144,7 @@ PetscErrorCode BuildDeformable(Sim &s) {
     const Body    &b    = sc.bodies[s.deformable_bodies[k]];
     const auto    &m    = s.meshes[s.deformable_bodies[k]];
     const PetscInt base = (PetscInt)(nodes.size() / 3);
+    vf.centroid[s.deformable_bodies[k]] = PlacedCentroid(m, b);
     for (size_t n = 0; n < m.nodes.size(); ++n) {
       const Vec3 p = b.position + b.rotation * m.nodes[n];
       nodes.insert(nodes.end(), {p.x, p.y, p.z});

@@ -137,7 +137,7 @@ const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
 const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
-const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move"};
+const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
 const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "mesh"};
 const std::vector<std::string> kBodyModel = {"rigid", "deformable"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
@@ -236,6 +236,29 @@ NodeSet ReadNodeSet(const Reader &r, const std::string &w, const YAML::Node &n, 
   return s;
 }
 
+VelocityField ReadVelocityField(const Reader &r, const std::string &w, const YAML::Node &n) {
+  VelocityField f;
+  f.where = r.At(n);
+  r.Keys(n, w, {"shape", "along", "direction", "amplitude", "centre", "width"});
+  const std::string k = r.Choice(r.Required(n, "shape", w), w + ".shape", {"cantilever", "sine", "gaussian"});
+  f.kind              = k == "cantilever" ? VelocityField::Cantilever : k == "sine" ? VelocityField::Sine : VelocityField::Gaussian;
+  const YAML::Node a  = r.Required(n, "along", w);
+  if (!a.IsSequence() || a.size() != 3) r.Fail(a, w + ".along: expected [axis, from, to], e.g. [x, 0, 1]" + Reader::Got(a));
+  f.axis = r.Axis(a[0], w + ".along[0]");
+  f.from = r.Real(a[1], w + ".along[1]");
+  f.to   = r.Real(a[2], w + ".along[2]");
+  if (!(f.to != f.from)) r.Fail(a, w + ".along: from and to must differ");
+  f.direction = r.Vector(r.Required(n, "direction", w), w + ".direction");
+  if (!(norm(f.direction) > 0)) r.Fail(n["direction"], w + ".direction: must not be zero");
+  f.direction = f.direction * (1 / norm(f.direction));
+  f.amplitude = r.Real(r.Required(n, "amplitude", w), w + ".amplitude");
+  if (f.kind == VelocityField::Gaussian) {
+    f.centre = r.Real(r.Required(n, "centre", w), w + ".centre");
+    f.width  = r.Positive(r.Required(n, "width", w), w + ".width");
+  } else if (n["centre"] || n["width"]) r.Fail(n["centre"] ? n["centre"] : n["width"], w + ": centre and width belong to shape: gaussian");
+  return f;
+}
+
 Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string &dir) {
   std::string w = "bodies[" + std::to_string(i) + "]";
   r.Keys(n, w, kBody);
@@ -282,6 +305,10 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
       if (b.move.kind == NodeSet::Group && b.shape.kind != ShapeKind::Mesh) r.Fail(m, w + ".move.group: physical groups exist only for shape {mesh: ...}");
     }
     b.move_velocity = r.Vector(r.Required(m, "velocity", w + ".move"), w + ".move.velocity");
+  }
+  if (n["velocity_field"]) {
+    if (b.model != "deformable") r.Fail(n["velocity_field"], w + ".velocity_field: only a deformable body has a velocity field; a rigid body has velocity and angular_velocity");
+    b.velocity_field = ReadVelocityField(r, w + ".velocity_field", n["velocity_field"]);
   }
   return b;
 }
@@ -438,6 +465,19 @@ Scene ReadScene(const std::string &file, const char *text) {
   return sc;
 }
 
+double VelocityField::Profile(double xi) const {
+  switch (kind) {
+  case Cantilever: { // first mode of a clamped-free beam, beta L = 1.8751..., normalised to 1 at the free end
+    const double b = 1.8751040687119611, sg = 0.7340955137589676;
+    auto         m = [&](double x) { return std::cosh(b * x) - std::cos(b * x) - sg * (std::sinh(b * x) - std::sin(b * x)); };
+    return m(xi) / m(1.0);
+  }
+  case Sine: return std::sin(M_PI * xi);
+  case Gaussian: return std::exp(-((xi - centre) / width) * ((xi - centre) / width));
+  default: return 0;
+  }
+}
+
 const char *SceneKeysHelp() {
   return "Scene file keys (YAML; doc/scenes.md has every key with an example):\n"
          "  title: text\n"
@@ -450,7 +490,9 @@ const char *SceneKeysHelp() {
          "    {name, model: rigid|deformable, material, shape, resolution: element size,\n"
          "     position: [x,y,z], rotation: {axis: [x,y,z], degrees}, velocity: [..], angular_velocity: [..],\n"
          "     fixed: true (rigid), fix: {below: [axis, value]} | {above: [axis, value]} | {group: NAME} (deformable),\n"
-         "     move: {velocity: [..]} (rigid: a platen) | {velocity: [..], below|above|group: ...} (deformable: nodes held at v)}\n"
+         "     move: {velocity: [..]} (rigid: a platen) | {velocity: [..], below|above|group: ...} (deformable: nodes held at v),\n"
+         "     velocity_field: {shape: cantilever|sine|gaussian, along: [axis, from, to], direction: [..], amplitude: m/s,\n"
+         "                      centre, width (gaussian; fractions of from..to)} (deformable, added to velocity)}\n"
          "    shape: {box: [lx, ly, lz]} | {sphere: r} | {ellipsoid: [a, b, c]} | {cylinder: {radius, height}}\n"
          "         | {convex_hull: [[x,y,z], ...]} | {pebble: {size, seed}} | {mesh: FILE.msh} | {mesh: {file, group}}\n"
          "  generate: list of {pack: {count, like: BODY, region: {lo: [..], hi: [..]}, scale: [min, max], seed}}\n"

@@ -49,6 +49,19 @@ struct NodeSet {
   Where       where;
 };
 
+// An initial velocity field of a deformable body (velocity_field:): amplitude * f(xi) along
+// `direction` (a unit vector), xi = (X[axis] - from) / (to - from) over the placed reference
+// positions; f: cantilever (first bending mode of a beam clamped at xi = 0, 1 at xi = 1),
+// sine (sin(pi xi)), gaussian (exp(-((xi - centre) / width)^2)).
+struct VelocityField {
+  enum Kind { None, Cantilever, Sine, Gaussian } kind = None;
+  int    axis = 0;
+  double from = 0, to = 1, amplitude = 0, centre = 0.5, width = 0.1;
+  Vec3   direction;
+  Where  where;
+  double Profile(double xi) const; // f(xi)
+};
+
 struct Body {
   std::string name, model, material; // model: rigid | deformable
   Shape       shape;
@@ -61,6 +74,7 @@ struct Body {
   NodeSet     move;                 // deformable: the moved nodes
   Vec3        move_velocity;
   Where       move_where;
+  VelocityField velocity_field;      // deformable: added to velocity + angular_velocity x (X - centroid)
   Where       where;
 };
 

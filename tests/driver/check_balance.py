@@ -7,9 +7,12 @@ checks (each fails the test when not met; all bounds are relative):
   --energy TOL     max_t |dissipated| <= TOL * E_ref, E_ref = max_t (kinetic + strain + contact)
   --dts a,b,...    run once per time step (-ts_dt) and require the --energy error to shrink with dt
   --ke-min T,R     the first local minimum of the kinetic energy lies at T within R*T
-  --ke-period T,R  successive minima of the kinetic energy are T apart (mean) within R*T
+  --ke-period T,R  successive deep minima of the kinetic energy are T apart (mean) within R*T
+                   (deep: the lowest sample of each run of rows below 20% of the largest kinetic
+                   energy, refined by a parabola; ripples of higher modes do not count)
   --at-rest F      kinetic(end) <= F * (gravity(0) - gravity(end))  (potential energy released)
-  --final C,V,R    column C of the last row equals V within R * |V|  (e.g. strain,0.02,1e-3)"""
+  --final C,V,R    column C of the last row equals V within R * |V|  (e.g. strain,0.02,1e-3)
+  --mean-after T,C,LO  the mean of column C over the rows at t >= T is at least LO"""
 import csv, math, os, subprocess, sys, tempfile
 
 args = sys.argv[1:]
@@ -59,6 +62,25 @@ def minima(rows):
             out.append(t1 + (0.5 * h * (a - c) / den if den > 0 else 0))
     return out
 
+def deep_minima(rows):
+    ke = [r["kinetic"] for r in rows]
+    low = 0.2 * max(ke)
+    out, i = [], 0
+    while i < len(ke):
+        if ke[i] >= low:
+            i += 1
+            continue
+        j = i
+        while j < len(ke) and ke[j] < low:
+            j += 1
+        k = min(range(i, j), key=lambda q: ke[q])
+        if 0 < k < len(ke) - 1 and j < len(ke) and i > 0:  # a whole dip, not cut by the ends of the run
+            a, b, c = ke[k - 1], ke[k], ke[k + 1]
+            h, den = rows[k]["time"] - rows[k - 1]["time"], a - 2 * b + c
+            out.append(rows[k]["time"] + (0.5 * h * (a - c) / den if den > 0 else 0))
+        i = j
+    return out
+
 def check(name, value, bound):
     ok = value <= bound
     print(f"{'ok  ' if ok else 'FAIL'} {name}: {value:.3e} (bound {bound:.1e})")
@@ -93,11 +115,17 @@ else:
         check(f"first kinetic minimum at {m[0] if m else float('nan'):.6g} s vs {T:.6g} s (relative difference)", abs(m[0] - T) / T if m else 1e9, R)
     if "--ke-period" in checks:
         T, R = map(float, checks["--ke-period"].split(","))
-        m = minima(rows)
+        m = deep_minima(rows)
         print(f"kinetic energy minima at {m}")
         per = (m[-1] - m[0]) / (len(m) - 1) if len(m) >= 2 else float("nan")
         check(f"kinetic energy period {per:.6g} s vs {T:.6g} s (relative difference)", abs(per - T) / T if len(m) >= 2 else 1e9, R)
     check_finals(rows, "")
+    if "--mean-after" in checks:
+        T, col, lo = checks["--mean-after"].split(",")
+        late = [r[col] for r in rows if r["time"] >= float(T)]
+        mean = sum(late) / len(late) if late else float("nan")
+        print(f"mean {col} over t >= {T}: {mean:.6g} ({len(late)} rows)")
+        check(f"{lo} - mean {col} over t >= {T} (must not be positive)", float(lo) - mean if late else 1e9, 0.0)
     if "--at-rest" in checks:
         released = rows[0]["gravity"] - rows[-1]["gravity"]
         check("kinetic energy at the end / potential energy released", rows[-1]["kinetic"] / released if released > 0 else 1e9, float(checks["--at-rest"]))
