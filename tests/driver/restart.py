@@ -8,8 +8,14 @@
   4. kill -9 during the second checkpoint write (after the temporary file, before the rename;
      -fdem_checkpoint_kill 2): checkpoint.h5 is still the step-75 one, readable, and a restart
      from it ends bitwise equal to A.
+  5. kill -9 at random moments: the scene with a checkpoint at every step (and 500 steps) is
+     started and all its processes get SIGKILL at a random moment after its first checkpoint
+     (within half the duration of a straight run), 6 times; each time the
+     checkpoint.h5 left behind (if one was written yet) opens, and a restart from it runs to
+     the end and ends bitwise equal to the straight run of that scene. The kill lands at any
+     point of a step or of a checkpoint write (HDF5 file open, data, close, link, rename).
 usage: restart.py MPIEXEC NP FDEM SCENE"""
-import os, subprocess, sys, tempfile
+import os, random, signal, subprocess, sys, tempfile, time
 
 mpiexec, np, fdem, scene = sys.argv[1:5]
 other = "2" if np == "1" else "1"
@@ -17,7 +23,7 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 root = tempfile.mkdtemp(prefix="fdem_restart_")
 fail = []
 
-def run(n, out, more, expect_ok=True):
+def run(n, out, more, expect_ok=True, scene=scene):
     cmd = [mpiexec, "--oversubscribe", "-n", n, fdem, scene, "-fdem_output", os.path.join(root, out), "-fdem_progress", "0"] + more
     print("$ " + " ".join(cmd), flush=True)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
@@ -47,4 +53,63 @@ check("killed during the second checkpoint write", r.returncode != 0, f"exit sta
 check("the temporary file is left, not renamed", os.path.exists(os.path.join(root, "D/checkpoint.h5.tmp")))
 run(np, "E", ["-restart", os.path.join(root, "D/checkpoint.h5")])
 check("restart from the checkpoint that survived the kill ends bitwise equal to the straight run", last("A") == last("E"), f"\n  {last('A')}\n  {last('E')}")
+
+# 5. random kills
+def descendants(pid):
+    kids = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                ppid = int(open(f"/proc/{d}/stat").read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            kids.setdefault(ppid, []).append(int(d))
+    out, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        out.append(p)
+        todo += kids.get(p, [])
+    return out
+
+text = open(scene).read()
+assert "checkpoint: {every: 0.0075, keep: 2}" in text and "end: 0.015" in text
+frequent = os.path.join(root, "frequent.yaml")
+open(frequent, "w").write(text.replace("checkpoint: {every: 0.0075, keep: 2}", "checkpoint: {every: 1.0e-4, keep: 2}").replace("end: 0.015", "end: 0.05"))
+t0 = time.time()
+run(np, "F", [], scene=frequent)
+straight = time.time() - t0
+rng = random.Random()
+seed = rng.randrange(1 << 30)
+rng.seed(seed)
+print(f"random kills: seed {seed}, straight run {straight:.2f} s", flush=True)
+survived = 0
+for k in range(6):
+    out = os.path.join(root, f"K{k}")
+    cmd = [mpiexec, "--oversubscribe", "-n", np, fdem, frequent, "-fdem_output", out, "-fdem_progress", "0"]
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    start = time.time()
+    while not os.path.exists(os.path.join(out, "checkpoint.h5")) and p.poll() is None and time.time() - start < 300:
+        time.sleep(0.01)  # the first checkpoint is written: from here on every moment is a candidate
+    time.sleep(rng.uniform(0, 0.5) * straight)
+    delay = time.time() - start
+    for q in descendants(p.pid)[::-1]:  # the ranks first, then mpiexec
+        try:
+            os.kill(q, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    p.wait()
+    ck = os.path.join(out, "checkpoint.h5")
+    if not os.path.exists(ck):
+        print(f"kill {k} after {delay:.2f} s: no checkpoint written yet")
+        continue
+    if p.returncode == 0:
+        print(f"kill {k} after {delay:.2f} s: the run had already finished")
+        continue
+    survived += 1
+    print(f"kill {k} after {delay:.2f} s: " + ("in a checkpoint write (checkpoint.h5.tmp left)" if os.path.exists(ck + ".tmp") else "between checkpoint writes"))
+    r = run(np, f"R{k}", ["-restart", ck], expect_ok=False, scene=frequent)
+    check(f"kill {k} after {delay:.2f} s: the last checkpoint opens and the restart runs to the end", r.returncode == 0, f"exit status {r.returncode}")
+    if r.returncode == 0:
+        check(f"kill {k}: the restart ends bitwise equal to the straight run", last("F") == last(f"R{k}"), f"\n  {last('F')}\n  {last(f'R{k}')}")
+check("at least 3 kills hit a running run that had written a checkpoint", survived >= 3, f"{survived} of 6")
 sys.exit(1 if fail else 0)
