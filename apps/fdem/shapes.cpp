@@ -2,6 +2,7 @@
 
 #include <fdem/kernels/error.hpp>
 #include <fdem/kernels/massprops.hpp>
+#include <fdem/kernels/pebble.hpp>
 #include <fdem/kernels/rotation.hpp>
 
 #include <algorithm>
@@ -24,23 +25,6 @@ int Cells(double length, double h) { return std::max(1, (int)std::lround(length 
 
 // Refinement level of the ellipsoid generator whose edges are about h on the largest semi-axis a.
 int Refinement(double a, double h) { return std::clamp((int)std::ceil(std::log2(M_PI * a / (2 * h))), 1, 6); }
-
-// 12 random points on an ellipsoid a >= b >= c (b = 0.6..0.9 a, c = 0.35..0.6 a), pushed in by up to 15%.
-std::vector<Vec3> PebblePoints(double size, long seed) {
-  std::mt19937_64                        rng((unsigned long)seed);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::normal_distribution<double>       N(0.0, 1.0);
-  const double      a = size, b = a * (0.6 + 0.3 * U(rng)), c = a * (0.35 + 0.25 * U(rng));
-  std::vector<Vec3> pts;
-  while (pts.size() < 12) {
-    Vec3 d(N(rng), N(rng), N(rng));
-    if (norm(d) < 1e-6) continue;
-    d              = d / norm(d);
-    const double r = 1 - 0.15 * U(rng);
-    pts.push_back(Vec3(a * r * d.x, b * r * d.y, c * r * d.z));
-  }
-  return pts;
-}
 
 } // namespace
 
@@ -73,7 +57,10 @@ kernels::TetMesh ShapeMesh(const Body &b) {
       kernels::MakeConvexPolyhedronTets(s.points, X, T);
       return FromTets(X, T);
     case ShapeKind::Pebble:
-      kernels::MakeConvexPolyhedronTets(PebblePoints(s.radius, s.seed), X, T);
+      {
+      kernels::PebbleRandom random((unsigned long)s.seed);
+      kernels::MakeConvexPolyhedronTets(kernels::RandomPebble(s.radius, random).points, X, T);
+    }
       return FromTets(X, T);
     case ShapeKind::Mesh: {
       kernels::TetMesh m = kernels::ReadGmsh(s.file);

@@ -38,6 +38,7 @@
 #include <fdem/contact.h>
 #include <fdem/rigid.h>
 #include <fdem/kernels/massprops.hpp>
+#include <fdem/kernels/pebble.hpp>
 #include <fdem/kernels/rotation.hpp>
 
 #include "../common/options.hpp"
@@ -45,7 +46,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -276,30 +276,20 @@ PetscErrorCode RunExample(int *status) {
       PetscCall(AddMesh(rb, c, p.name, X, T, 2600, 0.5 * (p.lo + p.hi), Mat3::identity(), Vec3(), Vec3(), true));
     }
   }
-  // the pebbles: 12 random points on an ellipsoid a >= b >= c (b = 0.6..0.9 a, c = 0.35..0.6 a),
-  // pushed in by up to 15%, and their convex hull; every rank builds the same scene
+  // the pebbles: convex hulls of fdem::kernels::RandomPebble (12 random points on an ellipsoid
+  // a >= b >= c, pushed in by up to 15%), a = 0.7..1.3 size; every rank builds the same scene
   c.first_pebble = (PetscInt)c.bodies.size();
-  std::mt19937_64                        rng((unsigned long)seed);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::normal_distribution<double>       N(0.0, 1.0);
+  fdem::kernels::PebbleRandom random((unsigned long)seed);
   for (PetscInt p = 0; p < n; ++p) {
-    const double      a = size * (0.7 + 0.6 * U(rng)), b = a * (0.6 + 0.3 * U(rng)), cz = a * (0.35 + 0.25 * U(rng));
-    std::vector<Vec3> pts;
-    while (pts.size() < 12) {
-      Vec3 d(N(rng), N(rng), N(rng));
-      if (norm(d) < 1e-6) continue;
-      d = d / norm(d);
-      const double r = 1 - 0.15 * U(rng);
-      pts.push_back(Vec3(a * r * d.x, b * r * d.y, cz * r * d.z));
-    }
+    const double                    a = size * (0.7 + 0.6 * random.U());
     std::vector<Vec3>               X;
     std::vector<std::array<int, 4>> T;
-    fdem::kernels::MakeConvexPolyhedronTets(pts, X, T);
+    fdem::kernels::MakeConvexPolyhedronTets(fdem::kernels::RandomPebble(a, random).points, X, T);
     const int    layer = (int)(p / (nx * ny)), k = (int)(p % (nx * ny));
     const double jitter = 0.1 * s;
-    const Vec3   x((k % nx + 0.5) * box_x / nx + jitter * (2 * U(rng) - 1), (k / nx + 0.5) * box_y / ny + jitter * (2 * U(rng) - 1), z_first + layer * s);
-    const Mat3 Q = fdem::kernels::RotationMatrix(Vec3(M_PI * (2 * U(rng) - 1), M_PI * (2 * U(rng) - 1), M_PI * (2 * U(rng) - 1)));
-    const Vec3 v(0.3 * (2 * U(rng) - 1), 0.3 * (2 * U(rng) - 1), 0), w(4 * (2 * U(rng) - 1), 4 * (2 * U(rng) - 1), 4 * (2 * U(rng) - 1));
+    const Vec3   x((k % nx + 0.5) * box_x / nx + jitter * (2 * random.U() - 1), (k / nx + 0.5) * box_y / ny + jitter * (2 * random.U() - 1), z_first + layer * s);
+    const Mat3 Q = fdem::kernels::RotationMatrix(Vec3(M_PI * (2 * random.U() - 1), M_PI * (2 * random.U() - 1), M_PI * (2 * random.U() - 1)));
+    const Vec3 v(0.3 * (2 * random.U() - 1), 0.3 * (2 * random.U() - 1), 0), w(4 * (2 * random.U() - 1), 4 * (2 * random.U() - 1), 4 * (2 * random.U() - 1));
     char name[32];
     PetscCall(PetscSNPrintf(name, sizeof(name), "pebble%d", (int)p));
     PetscCall(AddMesh(rb, c, name, X, T, density, x, Q, v, w, false));
