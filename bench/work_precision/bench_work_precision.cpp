@@ -398,20 +398,23 @@ int main(int argc, char **argv) {
 
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   PetscCall(FDEMInitializePackage());
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-N", &N, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-T", &P.T, nullptr));
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-amp", &amp, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-levels", &levels, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-repeats", &repeats, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-ref_steps", &ref_steps, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-hl_steps", &hl_steps, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-hl_repeats", &hl_repeats, nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-schemes", schemes_opt, sizeof(schemes_opt), nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-ref_scheme", ref_scheme, sizeof(ref_scheme), nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-csv", csv, sizeof(csv), nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-summary", summary, sizeof(summary), nullptr));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-skip_headline1", &skip_h1, nullptr));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-skip_work_precision", &skip_wp, nullptr));
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Work-precision bench (bench/work_precision/README.md)", "");
+  PetscCall(PetscOptionsInt("-N", "degrees of freedom of the headline problem", "", N, &N, nullptr));
+  PetscCall(PetscOptionsReal("-T", "simulated time of every run", "", P.T, &P.T, nullptr));
+  PetscCall(PetscOptionsReal("-amp", "amplitude of the initial displacement", "", amp, &amp, nullptr));
+  PetscCall(PetscOptionsInt("-levels", "step-size levels per scheme (< 0: each scheme's default ladder)", "", levels, &levels, nullptr));
+  PetscCall(PetscOptionsInt("-repeats", "timed repeats per work-precision point (the minimum is kept)", "", repeats, &repeats, nullptr));
+  PetscCall(PetscOptionsInt("-ref_steps", "steps of the reference solution", "", ref_steps, &ref_steps, nullptr));
+  PetscCall(PetscOptionsInt("-hl_steps", "steps of the headline cost runs", "", hl_steps, &hl_steps, nullptr));
+  PetscCall(PetscOptionsInt("-hl_repeats", "repeats of the headline cost runs", "", hl_repeats, &hl_repeats, nullptr));
+  PetscCall(PetscOptionsString("-schemes", "comma-separated schemes (default: all)", "", schemes_opt, schemes_opt, sizeof(schemes_opt), nullptr));
+  PetscCall(PetscOptionsString("-ref_scheme", "scheme of the reference solution", "", ref_scheme, ref_scheme, sizeof(ref_scheme), nullptr));
+  PetscCall(PetscOptionsString("-csv", "work-precision CSV output", "", csv, csv, sizeof(csv), nullptr));
+  PetscCall(PetscOptionsString("-summary", "summary text output", "", summary, summary, sizeof(summary), nullptr));
+  PetscCall(PetscOptionsBool("-skip_headline1", "skip the first headline table", "", skip_h1, &skip_h1, nullptr));
+  PetscCall(PetscOptionsBool("-skip_work_precision", "skip the work-precision ladders", "", skip_wp, &skip_wp, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(N > 0 && repeats > 0 && ref_steps > 0 && hl_steps > 0 && hl_repeats > 0 && P.T > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-N, -repeats, -ref_steps, -hl_steps, -hl_repeats and -T must be positive");
 
   // The ladders: n0 steps for the coarsest run (h = T/n0), then n0 2^j. The
   // coarsest steps stay inside every scheme's stability limit on this problem

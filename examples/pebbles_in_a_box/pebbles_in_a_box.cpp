@@ -403,7 +403,7 @@ PetscErrorCode RunExample(int *status) {
   {
     FDEMContactStats st;
     PetscCall(FDEMContactGetStats(contact, &st));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "contact: %" PetscInt_FMT " searches, %" PetscInt_FMT " force evaluations, last: %" PetscInt_FMT " candidate / %" PetscInt_FMT " active tetrahedron pairs and %" PetscInt_FMT " ghosts on rank 0, overlap energy %.3e J\n",
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "contact: %" PetscInt_FMT " searches, %" PetscInt_FMT " force evaluations, last: %" PetscInt_FMT " candidate / %" PetscInt_FMT " active tetrahedron pairs and %" PetscInt_FMT " ghost tetrahedra (all ranks), overlap energy %.3e J\n",
                           st.searches, st.evaluations, st.candidate_pairs, st.active_pairs, st.ghosts, (double)st.energy));
   }
   double mean_z = 0;

@@ -1,16 +1,22 @@
 /* Contact between rigid discrete elements: Munjiza's potential contact force
    between the tetrahedra of the bodies' contact skins (book 2.6), found by a
    linear-cost cell search (book 3.8-3.11), in parallel with ghost copies of
-   the bodies of other ranks within the search distance (PetscSF).
+   the skin tetrahedra of other ranks within the search distance (PetscSF).
+   FDEMContact is the contact engine of doc/contact_engine.md with the rigid
+   adapter; FDEMDeformableContact and FDEMScene's rigid-deformable contact are
+   the same engine with other adapters, and share its options and statistics.
 
-   Options (-fdem_contact_*):
+   Options (-fdem_contact_*, the same for every pair of body kinds):
      penalty <Pa>                 the penalty (a modulus: a face pushed a depth d into a tetrahedron
                                   of height H over that face feels a pressure ~ penalty d / H); required
      damping <Pa s/m>             normal contact damping per unit approach speed (book 2.6.4)
      friction <mu>                Coulomb friction coefficient
      tangential_viscosity <Pa s/m> regularises sticking below the Coulomb limit
      buffer <length>              search buffer; pairs are re-searched only when some body has moved
-                                  more than half of it (default: 10% of the mean body radius) */
+                                  more than half of it (default, or < 0: the mean of a tenth of each
+                                  rigid body's radius and a quarter of each mesh contact cell's diameter)
+     self <bool>                  self-contact within a deformable body (FDEMDeformableContact)
+   Command-line options win over the values set in code. */
 #ifndef FDEM_CONTACT_H
 #define FDEM_CONTACT_H
 
@@ -36,7 +42,8 @@ typedef struct {
   PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
 } FDEMContactStats;
 
-/* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve). */
+/* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve): a
+   term of rb's force chain, added to gravity and the functions of FDEMRigidAddForce. */
 PETSC_EXTERN PetscErrorCode FDEMContactCreate(FDEMRigid rb, FDEMContact *c);
 PETSC_EXTERN PetscErrorCode FDEMContactDestroy(FDEMContact *c);
 PETSC_EXTERN PetscErrorCode FDEMContactSetFromOptions(FDEMContact c);
@@ -44,9 +51,10 @@ PETSC_EXTERN PetscErrorCode FDEMContactSetPenalty(FDEMContact c, PetscReal penal
 PETSC_EXTERN PetscErrorCode FDEMContactSetDissipation(FDEMContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
 PETSC_EXTERN PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer);
 PETSC_EXTERN PetscErrorCode FDEMContactGetStats(FDEMContact c, FDEMContactStats *stats);
-/* Estimates the contact frequency omega_c ~ sqrt(penalty A / (L m)) of the
-   lightest body (A its cross-section, L its skin tetrahedra's size) and compares omega_c dt with K_crit of the TS type `scheme`;
-   prints a warning (and returns *ratio = omega_c dt / K_crit) when it exceeds 0.5. */
+/* The contact engine's time-step check (doc/contact_engine.md): the contact frequency
+   omega_c ~ sqrt(penalty A / (L m)) of the lightest body (A = (2 r)^2 its cross-section, L its
+   skin tetrahedra's size) against K_crit of the fdem TS type `scheme`; *ratio (may be NULL) =
+   omega_c dt / K_crit, and a warning above 0.5. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMContactCheckTimeStep(FDEMContact c, const char *scheme, PetscReal dt, PetscReal *ratio);
 
 #if defined(__cplusplus)

@@ -2,17 +2,18 @@
    contact force (book 2.6, doc/book.md C) between the surface tetrahedra (those
    with a boundary face) of different bodies, candidate pairs from a
    linear-cost cell search over their bounding spheres with a buffer (book
-   3.10-3.11, doc/book.md D), optional damping and Coulomb friction; the nodal
-   forces go into the FE force vector through FDEMDeformableSetExternalForce.
+   3.10-3.11), optional damping and Coulomb friction; the nodal forces go into
+   the FE force vector as a term of the mesh's force chain (FDEMDeformableAddForce).
+   It is the contact engine (doc/contact_engine.md) with the mesh adapter.
    See doc/contact_deformable.md.
 
      FDEMDeformableSetUp(dfm);
-     FDEMDeformableContactCreate(dfm, &c);      takes the external-force hook of dfm
+     FDEMDeformableContactCreate(dfm, &c);      adds a term to dfm's force chain
      FDEMDeformableContactSetFromOptions(c);    -fdem_contact_penalty is required
      FDEMDeformableSetUpTS(dfm, ts, &U); TSSolve(ts, U);
      FDEMDeformableContactDestroy(&c);          before FDEMDeformableDestroy
 
-   Options (-fdem_contact_*):
+   Options (-fdem_contact_*, as FDEMContact: one set for every pair of body kinds):
      penalty <Pa>                  the penalty (a modulus: a face pushed a depth d into a tetrahedron of
                                    height H over that face feels a pressure ~ penalty d / H); required
      damping <Pa s/m>              normal contact damping per unit approach speed
@@ -52,8 +53,8 @@ typedef struct _n_FDEMDeformableContact *FDEMDeformableContact;
 typedef FDEMContactStats FDEMDeformableContactStats; /* see include/fdem/contact.h */
 
 /* Collective; after FDEMDeformableSetUp. Finds the surface tetrahedra and
-   installs the contact force as dfm's external force (it replaces a force
-   set with FDEMDeformableSetExternalForce; Destroy removes it). */
+   adds the contact force to dfm's force chain (after the terms already there;
+   Destroy removes it). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactCreate(FDEMDeformable dfm, FDEMDeformableContact *c);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactDestroy(FDEMDeformableContact *c);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetFromOptions(FDEMDeformableContact c);
@@ -64,17 +65,14 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableContactSetSelfContact(FDEMDeformableCo
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetStats(FDEMDeformableContact c, FDEMDeformableContactStats *stats);
 /* Collective: total contact force (potential + dissipative) on body `body` at the last evaluation (all ranks). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetBodyForce(FDEMDeformableContact c, PetscInt body, PetscReal F[3]);
-/* Collective: the contact frequency omega_c = max sqrt(penalty A / (3 H m)) over the
-   surface tetrahedra (largest face A, height H over it, smallest lumped node mass m),
-   at the current positions; *ratio (may be NULL) = omega_c dt / K_crit of the fdem
-   TS type `scheme`. Prints a warning when the ratio exceeds 0.5. */
+/* Collective: the contact engine's time-step check; the mesh side is omega_c = max
+   sqrt(4 k / m) over the free boundary nodes (k = sum of penalty A / (3 H) over the node's
+   boundary faces of area A and height H, m its lumped mass), at the stored positions;
+   *ratio (may be NULL) = omega_c dt / K_crit of the fdem TS type `scheme`. Prints a warning
+   when the ratio exceeds 0.5. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableContact c, const char *scheme, PetscReal dt, PetscReal *ratio);
 /* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
-
-/* The developer accessors of FDEMDeformable that contact uses
-   (FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName) are declared in
-   fdem/deformable.h, developer section. */
 
 #if defined(__cplusplus)
 }

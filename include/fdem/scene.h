@@ -45,27 +45,23 @@ PETSC_EXTERN PetscErrorCode FDEMSceneDestroy(FDEMScene *sc);
 PETSC_EXTERN PetscErrorCode FDEMSceneSetRigid(FDEMScene sc, FDEMRigid rb);
 PETSC_EXTERN PetscErrorCode FDEMSceneSetDeformable(FDEMScene sc, FDEMDeformable dfm);
 
-/* Rigid-deformable contact. Off until a positive penalty is given (a scene
-   without contact does no search). penalty (Pa) as for FDEMContact; damping
-   (Pa s/m) and friction (Coulomb mu) as fdem::kernels::ContactDampingFriction;
-   buffer: search buffer (length), re-search when something moved more than
-   half of it (< 0: 20% of the mean bounding radius of the tetrahedra involved).
-   Options: -fdem_contact_penalty, -fdem_contact_damping,
-   -fdem_contact_friction, -fdem_contact_tangential_viscosity,
-   -fdem_contact_buffer.
+/* Rigid-deformable contact: the contact engine (doc/contact_engine.md) with
+   the mesh adapter (cells with a vertex on the boundary) and the rigid
+   adapter, pairs only across the two kinds; a term of the mesh's force
+   chain. Off until a positive penalty is given (a scene without contact does
+   no search). penalty (Pa) as for FDEMContact; damping (Pa s/m) and friction
+   (Coulomb mu) as fdem::kernels::ContactDampingFriction; buffer: search
+   buffer (length), re-search when something moved more than half of it
+   (< 0: automatic, as -fdem_contact_buffer). Options: -fdem_contact_* as
+   FDEMContact (command-line options win).
 
-   Parallel: at each search every rank's region (the box of the bounding
-   spheres of its mesh contact cells, + buffer/2) is shared (MPI_Allgather, 6
-   numbers per rank); a rigid body whose bounding sphere (radius + buffer)
-   meets another rank's region is sent there as a ghost. A PetscSF, rebuilt at
-   each search, carries the owners' states to the ghosts at every evaluation
-   and sums the forces and moments on ghosts back into the owners. A pair
-   (mesh cell, rigid skin tetrahedron) is computed once, by the rank owning
-   the cell.
+   Parallel: the engine's halo (mesh cells and skin tetrahedra near another
+   rank's region are ghosts there); a pair (mesh cell, rigid skin
+   tetrahedron) is computed once, by the rank owning the cell.
 
    Checks: at the first evaluation after FDEMSceneSetUpTS, an overlap energy
    above that of 10% of the smaller tetrahedron of a pair is a collective
-   error naming the rigid body id, the deformable body and both elements; at
+   error naming the deformable body, the rigid body id and both elements; at
    the first force evaluation of the TS, FDEMSceneCheckTimeStep. */
 PETSC_EXTERN PetscErrorCode FDEMSceneSetContact(FDEMScene sc, PetscReal penalty, PetscReal damping, PetscReal friction, PetscReal buffer);
 /* The tangential viscosity (Pa s/m) regularising stick, as FDEMContactSetDissipation. */
@@ -90,10 +86,8 @@ PETSC_EXTERN PetscErrorCode FDEMSceneGetContactStats(FDEMScene sc, FDEMSceneCont
 /* Collective: the rigid-deformable contact frequency omega_c against the stability limit
    K_crit of the fdem TS type `scheme` (FDEMSchemeInfoFind); *ratio (may be NULL) =
    omega_c dt / K_crit, and a WARNING is printed when it exceeds 0.5. omega_c is the larger of
-   the rigid side, sqrt(penalty A / (L m)) with A = (2 r)^2 (r the body's bounding radius, L
-   the size of its skin tetrahedra, m its mass; non-fixed bodies), and the mesh side,
-   sqrt(penalty A / (3 H m)) over the contact cells (largest face A, height H over it, smallest
-   lumped node mass m ~ rho V / 4), at the stored positions. Needs FDEMSceneSetUpTS with
+   the rigid side (as FDEMContactCheckTimeStep) and the mesh side (as
+   FDEMDeformableContactCheckTimeStep), at the stored positions. Needs FDEMSceneSetUpTS with
    contact on. FDEMSceneSetUpTS arranges for it to run once by itself, at the first force
    evaluation of the TS (its type and time step are final then; the ratio is kept in
    FDEMSceneContactStats.dt_ratio). */

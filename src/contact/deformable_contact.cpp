@@ -2,7 +2,6 @@
 // (engine.hpp) with the mesh adapter over the surface tetrahedra, attached to the
 // mesh's force chain. See include/fdem/deformable_contact.h and doc/contact_engine.md.
 #include "engine.hpp"
-#include "params.hpp"
 #include "mesh_adapter.hpp"
 #include "../model/deformable_impl.hpp"
 #include <fdem/deformable_contact.h>
@@ -71,12 +70,7 @@ PetscErrorCode FDEMDeformableContactSetPenalty(FDEMDeformableContact c, PetscRea
 
 PetscErrorCode FDEMDeformableContactSetDissipation(FDEMDeformableContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) { return c->engine.SetDissipation(damping, friction, tangential_viscosity); }
 
-PetscErrorCode FDEMDeformableContactSetBuffer(FDEMDeformableContact c, PetscReal buffer) {
-  PetscFunctionBegin;
-  PetscCall(fdem::contact::CheckBuffer(c->engine.Comm(), "Deformable contact", buffer));
-  PetscCall(c->engine.SetBuffer(buffer));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode FDEMDeformableContactSetBuffer(FDEMDeformableContact c, PetscReal buffer) { return c->engine.SetBuffer(buffer); }
 
 PetscErrorCode FDEMDeformableContactSetSelfContact(FDEMDeformableContact c, PetscBool self) { return c->engine.SetSelfContact(self); }
 

@@ -66,13 +66,16 @@ PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction, Pet
 
 PetscErrorCode Engine::SetBuffer(PetscReal buffer) {
   PetscFunctionBegin;
-  if (buffer >= 0) PetscCall(CheckBuffer(comm_, who_.c_str(), buffer));
-  PetscCheck(std::isfinite(buffer), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: the search buffer must be finite", who_.c_str());
-  par_.buffer = buffer;
-  searched_   = false;
-  if (buffer >= 0) stats_.buffer = buffer;
-  else listed_ = false; // the automatic buffer is computed when listing
+  PetscCall(CheckBuffer(comm_, who_.c_str(), buffer));
+  par_.buffer   = buffer;
+  stats_.buffer = buffer;
+  searched_     = false;
   PetscFunctionReturn(0);
+}
+
+void Engine::SetAutomaticBuffer() {
+  par_.buffer = -1;
+  listed_     = false; // the automatic buffer is computed when listing
 }
 
 PetscErrorCode Engine::SetSelfContact(PetscBool self) {
@@ -102,7 +105,8 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscOptionsEnd();
   if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
-  if (fb) PetscCall(SetBuffer(buf));
+  if (fb && buf < 0) SetAutomaticBuffer();
+  else if (fb) PetscCall(SetBuffer(buf));
   if (self != par_.self) PetscCall(SetSelfContact(self));
   PetscFunctionReturn(0);
 }

@@ -123,7 +123,8 @@ public:
   // Parameters; the setters check the values. SetFromOptions reads -fdem_contact_*.
   PetscErrorCode SetPenalty(PetscReal penalty);
   PetscErrorCode SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
-  PetscErrorCode SetBuffer(PetscReal buffer); // < 0: automatic
+  PetscErrorCode SetBuffer(PetscReal buffer); // >= 0
+  void           SetAutomaticBuffer();        // the default (Adapter::BufferProposal)
   PetscErrorCode SetSelfContact(PetscBool self);
   PetscErrorCode SetFromOptions();
   PetscErrorCode CheckPenaltySet() const;

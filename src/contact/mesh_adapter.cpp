@@ -2,7 +2,7 @@
 #include "mesh_adapter.hpp"
 #include "surface.hpp"
 #include "../model/deformable_impl.hpp"
-#include <fdem/deformable_contact.h> // FDEMDeformableGetLocalCells, FDEMDeformableGetBodyName
+#include <fdem/deformable.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,6 @@
 // FDEMContact: contact between rigid bodies, the contact engine (engine.hpp) with
 // the rigid adapter, attached to the rigid model's force chain.
 #include "engine.hpp"
-#include "params.hpp"
 #include "rigid_adapter.hpp"
 #include <fdem/contact.h>
 
@@ -69,12 +68,7 @@ PetscErrorCode FDEMContactSetPenalty(FDEMContact c, PetscReal penalty) { return 
 
 PetscErrorCode FDEMContactSetDissipation(FDEMContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) { return c->engine.SetDissipation(damping, friction, tangential_viscosity); }
 
-PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer) {
-  PetscFunctionBegin;
-  PetscCall(fdem::contact::CheckBuffer(c->rb->comm, "Contact", buffer));
-  PetscCall(c->engine.SetBuffer(buffer));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer) { return c->engine.SetBuffer(buffer); }
 
 PetscErrorCode FDEMContactSetFromOptions(FDEMContact c) { return c->engine.SetFromOptions(); }
 

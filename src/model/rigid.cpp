@@ -371,7 +371,6 @@ PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *n
 
 PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscInt     n, start;
-  RigidFields f;
   PetscScalar *u;
   IS           isq, isp;
   PetscFunctionBegin;
@@ -380,20 +379,9 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(VecCreateMPI(rb->comm, 18 * n, PETSC_DETERMINE, U));
   PetscCall(PetscObjectSetName((PetscObject)*U, "rigid body state"));
   PetscCall(VecGetOwnershipRange(*U, &start, nullptr));
-  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
-  rb->mass.assign(f.mass, f.mass + n);
-  rb->inertia.assign(f.I, f.I + 3 * n);
-  rb->ids.assign(f.id, f.id + n);
-  rb->fixed.assign(f.fixed, f.fixed + n);
   PetscCall(VecGetArray(*U, &u));
-  for (PetscInt i = 0; i < 3 * n; ++i) {
-    u[i]          = f.x[i];
-    u[12 * n + i] = f.v[i];
-    u[15 * n + i] = f.H[i];
-  }
-  for (PetscInt i = 0; i < 9 * n; ++i) u[3 * n + i] = f.R[i];
+  PetscCall(fdem::model::RigidLoadState(rb, u));
   PetscCall(VecRestoreArray(*U, &u));
-  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCall(ISCreateStride(rb->comm, 12 * n, start, 1, &isq));
   PetscCall(ISCreateStride(rb->comm, 6 * n, start + 12 * n, 1, &isp));
   PetscCall(TSRHSSplitSetIS(ts, "position", isq));
@@ -405,26 +393,62 @@ PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U) {
   PetscCall(FDEMTSSetDrift(ts, Drift, rb));
   PetscCall(TSSetSolution(ts, *U));
   rb->U = *U;
+  PetscCall(fdem::model::RigidForcesSetUp(rb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::RigidForcesSetUp(FDEMRigid rb) {
+  PetscFunctionBegin;
   for (const auto &term : rb->forces)
     if (term.setup) PetscCall(term.setup(rb, term.ctx));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U) {
-  RigidFields f;
-  const PetscScalar *u;
-  const PetscInt     n = rb->n;
+PetscErrorCode fdem::model::RigidLoadState(FDEMRigid rb, PetscScalar *u) {
+  RigidFields    f;
+  const PetscInt n = rb->n;
+  const RigidLayout L(n);
   PetscFunctionBegin;
-  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
-  PetscCall(VecGetArrayRead(U, &u));
-  for (PetscInt i = 0; i < 3 * n; ++i) {
-    f.x[i] = u[i];
-    f.v[i] = u[12 * n + i];
-    f.H[i] = u[15 * n + i];
+  PetscCall(RigidGetFields(rb->sw, f));
+  rb->mass.assign(f.mass, f.mass + n);
+  rb->inertia.assign(f.I, f.I + 3 * n);
+  rb->ids.assign(f.id, f.id + n);
+  rb->fixed.assign(f.fixed, f.fixed + n);
+  for (PetscInt b = 0; b < n; ++b) {
+    for (int k = 0; k < 3; ++k) {
+      L.x(u, b)[k] = f.x[3 * b + k];
+      L.v(u, b)[k] = f.v[3 * b + k];
+      L.H(u, b)[k] = f.H[3 * b + k];
+    }
+    for (int k = 0; k < 9; ++k) L.R(u, b)[k] = f.R[9 * b + k];
   }
-  for (PetscInt i = 0; i < 9 * n; ++i) f.R[i] = u[3 * n + i];
+  PetscCall(RigidRestoreFields(rb->sw, f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::RigidStoreState(FDEMRigid rb, const PetscScalar *u) {
+  RigidFields       f;
+  const RigidLayout L(rb->n);
+  PetscFunctionBegin;
+  PetscCall(RigidGetFields(rb->sw, f));
+  for (PetscInt b = 0; b < rb->n; ++b) {
+    for (int k = 0; k < 3; ++k) {
+      f.x[3 * b + k] = PetscRealPart(L.x(u, b)[k]);
+      f.v[3 * b + k] = PetscRealPart(L.v(u, b)[k]);
+      f.H[3 * b + k] = PetscRealPart(L.H(u, b)[k]);
+    }
+    for (int k = 0; k < 9; ++k) f.R[9 * b + k] = PetscRealPart(L.R(u, b)[k]);
+  }
+  PetscCall(RigidRestoreFields(rb->sw, f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U) {
+  const PetscScalar *u;
+  PetscFunctionBegin;
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(fdem::model::RigidStoreState(rb, u));
   PetscCall(VecRestoreArrayRead(U, &u));
-  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   if (rb->U == U) rb->U = nullptr;
   PetscFunctionReturn(0);
 }

@@ -104,6 +104,12 @@ PetscErrorCode RigidGetFields(DM sw, RigidFields &f);
 // dq = [v | [omega]x R] of the rb->n local bodies from p = [v | H] and their orientations R9 (9 per body).
 void RigidPositionRate(FDEMRigid rb, const PetscScalar *p, const PetscScalar *R9, PetscScalar *dq);
 PetscErrorCode RigidRestoreFields(DM sw, RigidFields &f);
+// The rb->n local bodies between the swarm and a state u = [x | R | v | H] (RigidLayout):
+// Load writes u and sets rb's mass, inertia, ids and fixed; Store writes the swarm.
+PetscErrorCode RigidLoadState(FDEMRigid rb, PetscScalar *u);
+PetscErrorCode RigidStoreState(FDEMRigid rb, const PetscScalar *u);
+// Tells the force chain's terms that the local bodies changed (at a TS set-up).
+PetscErrorCode RigidForcesSetUp(FDEMRigid rb);
 } // namespace fdem::model
 
 // The rigid model's split RHS and drift, for a combined state assembled

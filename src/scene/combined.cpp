@@ -209,7 +209,9 @@ PetscErrorCode FDEMSceneSetContact(FDEMScene s, PetscReal penalty, PetscReal dam
   PetscFunctionBegin;
   PetscCheck(std::isfinite(penalty) && penalty >= 0, s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the contact penalty must be >= 0 (0: no contact), got %g", (double)penalty);
   PetscCall(s->c->engine.SetDissipation(damping, friction, d.tangential_viscosity));
-  PetscCall(s->c->engine.SetBuffer(buffer));
+  PetscCheck(std::isfinite(buffer), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMScene: the search buffer must be finite");
+  if (buffer < 0) s->c->engine.SetAutomaticBuffer();
+  else PetscCall(s->c->engine.SetBuffer(buffer));
   if (penalty > 0) PetscCall(s->c->engine.SetPenalty(penalty));
   s->penalty = penalty > 0 ? penalty : -1;
   PetscFunctionReturn(0);
@@ -259,22 +261,8 @@ PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
     PetscCall(VecRestoreArrayRead(x, &xa));
   }
   if (s->rb) {
-    FDEMRigid                rb = s->rb;
-    fdem::model::RigidFields f;
-    PetscScalar             *r = u + OffRigid(s);
-    rb->n                      = nr;
-    PetscCall(fdem::model::RigidGetFields(rb->sw, f));
-    rb->mass.assign(f.mass, f.mass + nr);
-    rb->inertia.assign(f.I, f.I + 3 * nr);
-    rb->ids.assign(f.id, f.id + nr);
-    rb->fixed.assign(f.fixed, f.fixed + nr);
-    for (PetscInt i = 0; i < 3 * nr; ++i) {
-      r[i]           = f.x[i];
-      r[12 * nr + i] = f.v[i];
-      r[15 * nr + i] = f.H[i];
-    }
-    for (PetscInt i = 0; i < 9 * nr; ++i) r[3 * nr + i] = f.R[i];
-    PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
+    s->rb->n = nr;
+    PetscCall(fdem::model::RigidLoadState(s->rb, u + OffRigid(s)));
     PetscCall(VecDestroy(&s->vr_state));
     PetscCall(VecDestroy(&s->vr_q));
     PetscCall(VecDestroy(&s->vr_a));
@@ -298,8 +286,7 @@ PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
   s->ts = ts;
   if (s->rb) {
     s->rb->U = s->vr_state;
-    for (const auto &term : s->rb->forces) // the local bodies may have changed: rigid-rigid contact starts over
-      if (term.setup) PetscCall(term.setup(s->rb, term.ctx));
+    PetscCall(fdem::model::RigidForcesSetUp(s->rb)); // the local bodies may have changed: rigid-rigid contact starts over
   }
   // rigid-deformable contact: only when asked for and there is something to touch
   s->contact = s->penalty > 0 && s->rb && s->dfm && s->nr_global > 0;
@@ -340,19 +327,7 @@ PetscErrorCode FDEMSceneRestoreState(FDEMScene s, Vec U) {
     PetscCall(VecRestoreArray(v, &va));
     PetscCall(VecRestoreArray(x, &xa));
   }
-  if (s->rb && s->nr > 0) {
-    fdem::model::RigidFields f;
-    const PetscScalar       *r  = u + OffRigid(s);
-    const PetscInt           nr = s->nr;
-    PetscCall(fdem::model::RigidGetFields(s->rb->sw, f));
-    for (PetscInt i = 0; i < 3 * nr; ++i) {
-      f.x[i] = r[i];
-      f.v[i] = r[12 * nr + i];
-      f.H[i] = r[15 * nr + i];
-    }
-    for (PetscInt i = 0; i < 9 * nr; ++i) f.R[i] = r[3 * nr + i];
-    PetscCall(fdem::model::RigidRestoreFields(s->rb->sw, f));
-  }
+  if (s->rb && s->nr > 0) PetscCall(fdem::model::RigidStoreState(s->rb, u + OffRigid(s)));
   PetscCall(VecRestoreArrayRead(U, &u));
   PetscFunctionReturn(0);
 }
