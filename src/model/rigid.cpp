@@ -91,7 +91,7 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
       L.M(a, b)[k] = rb->fixed[b] ? 0.0 : M[k];
     }
     if (rb->fixed[b] && u)
-      for (int k = 0; k < 3; ++k) rb->power -= F[k] * PetscRealPart(u[12 * n + 3 * b + k]); // reaction R = -F
+      for (int k = 0; k < 3; ++k) rb->power -= F[k] * PetscRealPart(L.v(u, b)[k]); // reaction R = -F
   }
   if (u) PetscCall(VecRestoreArrayRead(rb->U, &u));
   PetscCall(VecRestoreArray(A, &a));

@@ -76,7 +76,7 @@ PetscErrorCode RigidMomentum(FDEMScene s, TS ts, PetscReal t, const PetscScalar 
     const PetscScalar             *FM = s->c->RigidForces().data();
     for (PetscInt b = 0; b < s->nr; ++b) {
       if (rb->fixed[b]) {
-        for (int k = 0; k < 3; ++k) extra -= PetscRealPart(L.F(FM, b)[k] * u[12 * s->nr + 3 * b + k]);
+        for (int k = 0; k < 3; ++k) extra -= PetscRealPart(L.F(FM, b)[k] * L.v(u, b)[k]);
         continue;
       }
       for (int k = 0; k < 3; ++k) {
