@@ -1,5 +1,5 @@
 // Dense bed of spheres, serial, the kernel level only (SpherePairLoop and a
-// velocity Verlet step): an fcc packing of n^3 unit cells (4 n^3 spheres of
+// velocity Verlet step, skin 0.1): an fcc packing of n^3 unit cells (4 n^3 spheres of
 // diameter 1, mass 1) with touching nearest neighbours and small random
 // velocities, gran/hooke/history 2000 NULL 50 NULL 0.5 1, dt 1e-4 in LJ
 // units; the same set-up as in.bed for LAMMPS (run.sh). Prints
@@ -46,6 +46,7 @@ int main(int argc, char **argv) {
   p.mu = 0.5;
   SpherePairLoop loop;
   loop.SetPairTable({p}, 1);
+  loop.SetSkin(0.1); // LAMMPS: neighbor 0.1 bin
   const SphereArrays s{n, x.data(), v.data(), w.data(), r.data(), m.data(), mat.data(), id.data()};
   std::vector<double> f(3 * n, 0.0), t(3 * n, 0.0);
   const double inertia = 0.4 * mass * 0.25;
@@ -69,7 +70,7 @@ int main(int argc, char **argv) {
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   double ke = 0;
   for (int i = 0; i < 3 * n; ++i) ke += 0.5 * mass * v[i] * v[i];
-  std::printf("fdem-kernel spheres %d steps %d seconds %.3f particle-steps/s %.4g coordination %.4f ke/n %.6g\n", n, steps,
-              sec, double(n) * steps / sec, coord, ke / n);
+  std::printf("fdem-kernel spheres %d steps %d seconds %.3f particle-steps/s %.4g coordination %.4f ke/n %.6g searches %d\n", n,
+              steps, sec, double(n) * steps / sec, coord, ke / n, loop.NumSearches());
   return 0;
 }

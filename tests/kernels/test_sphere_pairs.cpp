@@ -150,7 +150,8 @@ TEST(SpherePairs, CloudConservesMomentumAndEnergyBalance) {
 }
 
 // The answer does not depend on the order the spheres are handed over in
-// (histories are keyed by global id), as a parallel layer needs.
+// (histories are keyed by global id), as a parallel layer needs, nor on the
+// search skin (which only makes searches rarer).
 TEST(SpherePairs, ForcesIndependentOfOrder) {
   const GranularPair p = Glass(0.7, 0.4);
   Spheres a, b;
@@ -160,15 +161,25 @@ TEST(SpherePairs, ForcesIndependentOfOrder) {
   for (int i = 0; i < 40; ++i) a.Add({2.0 * R * (i % 4) + 1e-4 * u(rng), 2.0 * R * (i / 4 % 5), 2.0 * R * (i / 20)}, {u(rng), u(rng), u(rng)}, R, m, 100 + i);
   for (int i = a.n() - 1; i >= 0; --i)
     b.Add({a.x[3 * i], a.x[3 * i + 1], a.x[3 * i + 2]}, {a.v[3 * i], a.v[3 * i + 1], a.v[3 * i + 2]}, R, m, a.id[i]);
-  SpherePairLoop la, lb;
+  Spheres c = a;
+  SpherePairLoop la, lb, lc;
   la.SetPairTable({p}, 1);
   lb.SetPairTable({p}, 1);
-  std::vector<double> fa(3 * a.n(), 0.0), ta = fa, fb = fa, tb = fa;
+  lc.SetPairTable({p}, 1);
+  lc.SetSkin(0.2 * R);
+  std::vector<double> fa(3 * a.n(), 0.0), ta = fa, fb = fa, tb = fa, fc = fa, tc = fa;
   for (int s = 0; s < 200; ++s) {
     Step(la, a, fa, ta, 1e-6);
     Step(lb, b, fb, tb, 1e-6);
+    Step(lc, c, fc, tc, 1e-6);
   }
   EXPECT_GT(la.NumContacts(), 0);
+  EXPECT_EQ(la.NumSearches(), 200);
+  EXPECT_LT(lc.NumSearches(), 10);
+  for (std::size_t k = 0; k < a.x.size(); ++k) {
+    EXPECT_NEAR(a.x[k], c.x[k], 1e-15);
+    EXPECT_NEAR(a.w[k], c.w[k], 1e-9);
+  }
   const int n = a.n();
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
