@@ -60,6 +60,7 @@ struct GranularResult {
 // Coulomb limit (as in LAMMPS gran/hooke/history). Caller applies fn + ft at
 // the contact point: the torque on i is (c - x_i) x (fn + ft) + mroll.
 // Requires overlap > 0 (no force is computed for a gap).
+// (Defined inline below: it is the innermost call of the pair loops.)
 GranularResult GranularForce(const GranularPair &p, const GranularContact &c, double dt, Vec3 &shear);
 
 // The pair parameters for materials a and b (mixing rule, doc/spheres.md):
@@ -87,5 +88,56 @@ double HookeContactTime(double kn, double gamma_n, double mstar);
 // duration for E*, R*, m*.
 double HertzPeakForce(double estar, double rstar, double mstar, double v);
 double HertzContactTime(double estar, double rstar, double mstar, double v);
+
+// ---- inline definition ---------------------------------------------------
+inline GranularResult GranularForce(const GranularPair &p, const GranularContact &c, double dt, Vec3 &shear) {
+  GranularResult r;
+  const double delta = c.overlap;
+  const Vec3 vn = dot(c.vrel, c.n) * c.n;
+  const Vec3 vt = c.vrel - vn;
+
+  double kn_delta, cn, kt, ct; // elastic normal force, normal damping, tangential stiffness and damping
+  if (p.law == GranularLaw::Hooke) {
+    kn_delta = p.kn * delta;
+    cn = c.mstar * p.gamma_n;
+    kt = p.kt;
+    ct = c.mstar * p.gamma_t;
+  } else {
+    const double a = std::sqrt(c.rstar * delta);  // contact radius
+    const double sn = 2.0 * p.estar * a;           // dFn/d(delta)
+    kn_delta = (2.0 / 3.0) * sn * delta;           // 4/3 E* sqrt(R*) delta^{3/2}
+    cn = p.alpha * std::sqrt(c.mstar * sn);
+    kt = 8.0 * p.gstar * a;
+    ct = p.alpha * std::sqrt(c.mstar * kt);
+  }
+  r.fn = kn_delta * c.n - cn * vn;
+
+  // Tangential spring: advance, keep in the current tangent plane.
+  shear += dt * vt;
+  shear -= dot(shear, c.n) * c.n;
+  const Vec3 damp = ct * vt;
+  Vec3 ft = -(kt * shear + damp);
+  const double fs2 = dot(ft, ft), fmax2 = p.mu * p.mu * dot(r.fn, r.fn);
+  if (fs2 > fmax2) {
+    const double fmax = std::sqrt(fmax2), fs = std::sqrt(fs2);
+    if (kt > 0) {
+      const double s = fmax / fs;
+      // Cut the spring back so that it alone (with the damping) gives the limit.
+      shear = s * (shear + (1.0 / kt) * damp) - (1.0 / kt) * damp;
+      ft = s * ft;
+    } else {
+      ft = (fs > 0 ? fmax / fs : 0.0) * ft;
+    }
+    r.sliding = true;
+  }
+  r.ft = ft;
+
+  if (p.mu_roll > 0) {
+    const Vec3 wr = c.wrel - dot(c.wrel, c.n) * c.n;
+    const double w = norm(wr);
+    if (w > 0) r.mroll = (-p.mu_roll * c.rstar * norm(r.fn) / w) * wr;
+  }
+  return r;
+}
 
 } // namespace fdem::kernels
