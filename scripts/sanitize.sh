@@ -41,7 +41,7 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # Long under a sanitizer (each > 10 min on 2 cores); their code paths run in
 # the smaller tests of the same label.
-exclude='^(test_contact_rigid|test_contact_stack|test_deformable_wave|test_deformable_cantilever)_'
+exclude='^(test_contact_rigid|test_contact_stack|test_deformable_wave|test_deformable_cantilever|driver_restart|driver_scene_pebbles_in_a_box|driver_scene_disc_platens|driver_scene_platen|driver_default_scene)_'
 cd "$build"
 status=0
 start=$(date +%s)
