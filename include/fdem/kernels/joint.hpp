@@ -1,0 +1,75 @@
+// The cohesive law of a fracture joint between two tetrahedra (doc/fracture.md):
+// Munjiza's combined single and smeared crack model. A joint carries a normal
+// traction sigma from its opening dn and a shear traction tau from its slip s;
+// up to the peak the law hardens (elastic, reversible), beyond it the joint
+// softens along Munjiza's curve z(D) with a damage D that never decreases,
+// and at D = 1 the joint is broken and carries nothing. Pure functions on
+// doubles; no PETSc, no MPI.
+#pragma once
+#include <string>
+
+namespace fdem::kernels {
+
+// The constants of Munjiza's softening curve (a, b, c) and its integral over
+// [0, 1] (evaluated by JointSofteningIntegral; 0.3863 to 4 digits).
+inline constexpr double kJointA = 0.63, kJointB = 1.8, kJointC = 6.0;
+
+// z(D) = [1 - (a+b-1)/(a+b) exp(D (a+cb) / ((a+b)(1-a-b)))] [a (1-D) + b (1-D)^c],
+// z(0) = 1, z(1) = 0, decreasing. D outside [0, 1] is clamped.
+double JointSoftening(double D);
+// The integral of z over [0, 1] (composite Simpson, 2^12 intervals).
+double JointSofteningIntegral();
+
+// A fracturable material (SI units; the scene file's `fracture:` block).
+struct JointMaterial {
+  std::string name;            // for messages
+  double tensile_strength = 0; // f_t, Pa, > 0
+  double cohesion = 0;         // c, Pa, > 0
+  double friction_angle = 0;   // phi, degrees, in [0, 90)
+  double GI = 0, GII = 0;      // fracture energies, J/m^2, > 0
+  double penalty = 0;          // joint penalty p, Pa, > 0
+};
+
+// The law of one joint of a material in elements of size h (m): the peak and
+// critical openings and slips follow from the material (doc/fracture.md):
+//   dn_peak = 2 h f_t / p,  s_peak(sigma) = 2 h f_s / p,  f_s = max(c - sigma tan phi, 0),
+//   dn_crit = dn_peak + (G_I - 2/3 f_t dn_peak) / (f_t Z),  Z = the integral of z,
+// and the same for the slip with G_II, f_s; so that the whole area under the
+// curve (hardening + softening) is the fracture energy.
+struct JointLaw {
+  double ft = 0, c = 0, tan_phi = 0, GI = 0, GII = 0, penalty = 0, h = 0;
+  double dn_peak = 0, dn_crit = 0; // opening at the peak and at rupture, m
+};
+
+// Checks the material and the element size and returns the law. Throws
+// InputError naming the material and what is wrong: a non-positive strength,
+// energy, penalty or size, a friction angle outside [0, 90), or a penalty too
+// small for the element (the hardening branch alone would hold more energy
+// than G_I: 2/3 f_t dn_peak >= G_I, i.e. the peak opening is too large).
+JointLaw MakeJointLaw(const JointMaterial &m, double h);
+
+// The history of one joint: the largest damage reached (never decreases).
+struct JointState {
+  double D = 0;
+  bool broken = false;
+};
+
+struct JointTraction {
+  double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the penalty 2 f_t dn / dn_peak)
+  double tau = 0;   // shear traction, Pa, in the direction of the slip (s >= 0 given)
+  double D = 0;     // damage after this evaluation
+};
+
+// Tractions at opening dn (m, > 0 opening) and slip magnitude s >= 0 (m).
+// Damage from both modes: D = min(1, sqrt(D_I^2 + D_II^2)) with
+// D_I = (dn - dn_peak)+ / (dn_crit - dn_peak) and the same for the slip; the
+// state keeps the largest D. sigma = z(D) f_t h(dn / dn_peak) in tension,
+// tau = z(D) f_s h(s / s_peak), with h(x) = 2x - x^2 for x < 1 and 1 beyond.
+// The state is updated (pass a copy to evaluate without committing).
+JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointState &state);
+
+// The slip at the shear peak and at rupture for a normal traction sigma (Pa):
+// s_peak = 2 h f_s / p; the softening span s_crit - s_peak is that of pure shear.
+void JointSlipLimits(const JointLaw &law, double sigma, double *s_peak, double *s_crit);
+
+} // namespace fdem::kernels

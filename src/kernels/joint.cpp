@@ -1,0 +1,109 @@
+// The cohesive law of a fracture joint; see fdem/kernels/joint.hpp and doc/fracture.md.
+#include <fdem/kernels/joint.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <fdem/kernels/error.hpp>
+
+namespace fdem::kernels {
+
+double JointSoftening(double D) {
+  D = std::clamp(D, 0.0, 1.0);
+  const double a = kJointA, b = kJointB, c = kJointC, ab = a + b;
+  const double e = std::exp(D * (a + c * b) / (ab * (1.0 - ab)));
+  const double r = 1.0 - D;
+  return (1.0 - (ab - 1.0) / ab * e) * (a * r + b * std::pow(r, c));
+}
+
+double JointSofteningIntegral() {
+  static const double Z = [] {
+    const int n = 4096; // even
+    double s = JointSoftening(0) + JointSoftening(1);
+    for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * JointSoftening((double)i / n);
+    return s / (3.0 * n);
+  }();
+  return Z;
+}
+
+namespace {
+std::string Num(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+// Critical value from the peak value, the strength and the energy: the whole
+// area (2/3 strength peak + strength (crit - peak) Z) equals the energy.
+double Critical(double peak, double strength, double G) { return peak + (G - 2.0 / 3.0 * strength * peak) / (strength * JointSofteningIntegral()); }
+// The hardening shape: 2x - x^2 up to the peak (x = 1), then 1.
+double Hardening(double x) { return x < 1 ? x * (2.0 - x) : 1.0; }
+} // namespace
+
+JointLaw MakeJointLaw(const JointMaterial &m, double h) {
+  const std::string who = "fracture material '" + m.name + "'";
+  auto positive = [&](double v, const char *what) {
+    if (!(v > 0) || !std::isfinite(v)) throw InputError(who + ": " + what + " = " + Num(v) + " must be positive and finite");
+  };
+  positive(m.tensile_strength, "tensile_strength");
+  positive(m.cohesion, "cohesion");
+  positive(m.GI, "G_I");
+  positive(m.GII, "G_II");
+  positive(m.penalty, "joint_penalty");
+  if (!(m.friction_angle >= 0 && m.friction_angle < 90))
+    throw InputError(who + ": friction_angle = " + Num(m.friction_angle) + " degrees must be in [0, 90)");
+  if (!(h > 0) || !std::isfinite(h)) throw InputError(who + ": the element size h = " + Num(h) + " must be positive and finite");
+  JointLaw L;
+  L.ft = m.tensile_strength, L.c = m.cohesion, L.tan_phi = std::tan(m.friction_angle * M_PI / 180.0);
+  L.GI = m.GI, L.GII = m.GII, L.penalty = m.penalty, L.h = h;
+  L.dn_peak = 2.0 * h * L.ft / L.penalty;
+  if (2.0 / 3.0 * L.ft * L.dn_peak >= L.GI)
+    throw InputError(who + ": joint_penalty = " + Num(m.penalty) + " is too small for elements of size " + Num(h) + ": the peak opening 2 h f_t / p = " + Num(L.dn_peak) +
+                     " m would store 2/3 f_t dn_peak = " + Num(2.0 / 3.0 * L.ft * L.dn_peak) + " J/m^2 before softening, more than G_I = " + Num(L.GI) +
+                     "; raise the penalty above " + Num(4.0 / 3.0 * h * L.ft * L.ft / L.GI) + " Pa");
+  if (2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty) >= L.GII)
+    throw InputError(who + ": joint_penalty = " + Num(m.penalty) + " is too small for elements of size " + Num(h) + " in shear: 2/3 c s_peak = " +
+                     Num(2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty)) + " J/m^2 exceeds G_II = " + Num(L.GII) + "; raise the penalty above " +
+                     Num(4.0 / 3.0 * h * L.c * L.c / L.GII) + " Pa");
+  L.dn_crit = Critical(L.dn_peak, L.ft, L.GI);
+  return L;
+}
+
+void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak, double *s_crit) {
+  // Mohr-Coulomb with tension positive: compression (sigma < 0) raises the shear strength.
+  const double fs = std::max(L.c - sigma * L.tan_phi, 0.0);
+  const double sp = 2.0 * L.h * fs / L.penalty;
+  if (s_peak) *s_peak = sp;
+  // The softening span in slip is that of pure shear (fs = c: energy G_II);
+  // under compression the strength, and so the energy to rupture, grow.
+  const double sp0 = 2.0 * L.h * L.c / L.penalty;
+  if (s_crit) *s_crit = sp + (Critical(sp0, L.c, L.GII) - sp0);
+}
+
+JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState &state) {
+  JointTraction t;
+  if (state.broken) {
+    t.D = 1;
+    return t; // the faces are contact surfaces now
+  }
+  s = std::fabs(s);
+  // the normal branch without damage: penalty in compression, hardening in tension
+  const double sigma0 = dn <= 0 ? 2.0 * L.ft * dn / L.dn_peak : L.ft * Hardening(dn / L.dn_peak);
+  double sp, sc;
+  JointSlipLimits(L, std::min(sigma0, 0.0), &sp, &sc); // the friction gain comes from compression
+  const double DI  = dn > L.dn_peak ? (dn - L.dn_peak) / (L.dn_crit - L.dn_peak) : 0.0;
+  const double DII = s > sp ? (s - sp) / (sc - sp) : 0.0;
+  state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
+  t.D = state.D;
+  if (state.D >= 1) {
+    state.broken = true;
+    return t;
+  }
+  const double z   = JointSoftening(state.D);
+  const double fs  = std::max(L.c - std::min(sigma0, 0.0) * L.tan_phi, 0.0);
+  t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
+  t.tau   = sp > 0 ? z * fs * Hardening(s / sp) : 0.0;
+  return t;
+}
+
+} // namespace fdem::kernels

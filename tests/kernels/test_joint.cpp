@@ -1,0 +1,137 @@
+// The cohesive law of a fracture joint (fdem/kernels/joint.hpp, doc/fracture.md):
+// Munjiza's softening curve, the traction-separation law point by point in
+// pure mode I and II, the dissipated energy against G_I and G_II, damage that
+// never heals, Mohr-Coulomb strengthening under compression, bad input.
+#include <fdem/kernels/error.hpp>
+#include <fdem/kernels/joint.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace fdem::kernels;
+
+namespace {
+JointMaterial Mortar() {
+  JointMaterial m;
+  m.name = "mortar";
+  m.tensile_strength = 1.0e6, m.cohesion = 3.0e6, m.friction_angle = 30, m.GI = 10, m.GII = 50, m.penalty = 1.0e10;
+  return m;
+}
+// Work per unit area of the traction along a monotonic path 0 -> end in n
+// steps (trapezoid), in mode I (normal) or II (slip).
+double Work(const JointLaw &L, bool shear, double end, int n, JointState &st) {
+  double w = 0, prev = 0;
+  for (int i = 1; i <= n; ++i) {
+    const double d = end * i / n;
+    const JointTraction t = shear ? JointTractionAt(L, 0, d, st) : JointTractionAt(L, d, 0, st);
+    const double cur = shear ? t.tau : t.sigma;
+    w += 0.5 * (prev + cur) * (end / n);
+    prev = cur;
+  }
+  return w;
+}
+} // namespace
+
+TEST(Joint, SofteningCurveEndsAndIntegral) {
+  EXPECT_NEAR(JointSoftening(0), 1.0, 1e-15);
+  EXPECT_NEAR(JointSoftening(1), 0.0, 1e-15);
+  for (int i = 0; i < 100; ++i) EXPECT_GT(JointSoftening(i / 100.0), JointSoftening((i + 1) / 100.0)) << "z must decrease at D = " << i / 100.0;
+  // the published value of the integral, to its 4 digits, and an independent midpoint rule
+  EXPECT_NEAR(JointSofteningIntegral(), 0.3863, 5e-5);
+  double mid = 0;
+  const int n = 100000;
+  for (int i = 0; i < n; ++i) mid += JointSoftening((i + 0.5) / n) / n;
+  EXPECT_NEAR(JointSofteningIntegral(), mid, 1e-9);
+}
+
+TEST(Joint, ModeIFollowsTheLawPointByPoint) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  EXPECT_DOUBLE_EQ(L.dn_peak, 2 * 0.01 * 1e6 / 1e10); // 2 h f_t / p = 2e-6 m
+  const double Z = JointSofteningIntegral();
+  EXPECT_NEAR(L.dn_crit, L.dn_peak + (10 - 2.0 / 3.0 * 1e6 * L.dn_peak) / (1e6 * Z), 1e-18);
+  JointState st;
+  // hardening: 2x - x^2 of f_t, reversible (no damage)
+  EXPECT_NEAR(JointTractionAt(L, 0.5 * L.dn_peak, 0, st).sigma, 0.75e6, 1e-6);
+  EXPECT_NEAR(JointTractionAt(L, L.dn_peak, 0, st).sigma, 1e6, 1e-6);
+  EXPECT_EQ(st.D, 0);
+  // compression: the penalty 2 f_t dn / dn_peak
+  EXPECT_NEAR(JointTractionAt(L, -L.dn_peak, 0, st).sigma, -2e6, 1e-6);
+  // softening: z(D) f_t at D = 0.25, 0.5, 0.9
+  for (double D : {0.25, 0.5, 0.9}) {
+    JointState s2;
+    const JointTraction t = JointTractionAt(L, L.dn_peak + D * (L.dn_crit - L.dn_peak), 0, s2);
+    EXPECT_NEAR(t.D, D, 1e-12);
+    EXPECT_NEAR(t.sigma, 1e6 * JointSoftening(D), 1e-6 * 1e6);
+  }
+  JointState s3;
+  EXPECT_EQ(JointTractionAt(L, 1.0001 * L.dn_crit, 0, s3).sigma, 0);
+  EXPECT_TRUE(s3.broken);
+}
+
+TEST(Joint, DissipatedEnergyEqualsTheFractureEnergies) {
+  for (double h : {0.002, 0.01, 0.03}) {
+    const JointLaw L = MakeJointLaw(Mortar(), h);
+    JointState sI, sII;
+    const double wI = Work(L, false, 1.01 * L.dn_crit, 200000, sI);
+    double sp, sc;
+    JointSlipLimits(L, 0, &sp, &sc);
+    const double wII = Work(L, true, 1.01 * sc, 200000, sII);
+    EXPECT_TRUE(sI.broken && sII.broken);
+    EXPECT_NEAR(wI / 10.0, 1.0, 0.01) << "mode I, h = " << h;
+    EXPECT_NEAR(wII / 50.0, 1.0, 0.01) << "mode II, h = " << h;
+  }
+}
+
+TEST(Joint, DamageNeverHealsAndMixedModeAddsUp) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  JointState st;
+  const double d = L.dn_peak + 0.5 * (L.dn_crit - L.dn_peak);
+  const double peak = JointTractionAt(L, d, 0, st).sigma;
+  // unloading to the peak opening keeps D = 0.5: the traction is z(0.5) f_t, not f_t
+  const JointTraction back = JointTractionAt(L, L.dn_peak, 0, st);
+  EXPECT_NEAR(back.D, 0.5, 1e-12);
+  EXPECT_NEAR(back.sigma, JointSoftening(0.5) * 1e6, 1e-3);
+  EXPECT_NEAR(back.sigma, peak, 1e-3); // same damage, both beyond the hardening branch
+  // mode I and II damage of 0.6 each combine to sqrt(0.72)
+  double sp, sc;
+  JointSlipLimits(L, 0, &sp, &sc);
+  JointState m;
+  const JointTraction t = JointTractionAt(L, L.dn_peak + 0.6 * (L.dn_crit - L.dn_peak), sp + 0.6 * (sc - sp), m);
+  EXPECT_NEAR(t.D, std::sqrt(0.72), 1e-12);
+}
+
+TEST(Joint, CompressionRaisesTheShearStrengthByMohrCoulomb) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  const double dn = -0.5 * L.dn_peak; // sigma = -f_t
+  double sp, sc;
+  JointSlipLimits(L, -1e6, &sp, &sc);
+  JointState st;
+  const JointTraction t = JointTractionAt(L, dn, sp, st);
+  EXPECT_NEAR(t.sigma, -1e6, 1e-6);
+  EXPECT_NEAR(t.tau, 3e6 + 1e6 * std::tan(M_PI / 6), 1e-3); // c - sigma tan(phi)
+  EXPECT_EQ(st.D, 0);
+}
+
+TEST(Joint, BadInputIsNamed) {
+  auto expect = [](JointMaterial m, double h, const std::string &text) {
+    try {
+      MakeJointLaw(m, h);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError &e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  JointMaterial m = Mortar();
+  m.tensile_strength = 0;
+  expect(m, 0.01, "fracture material 'mortar': tensile_strength = 0 must be positive");
+  m = Mortar(), m.GI = -1;
+  expect(m, 0.01, "G_I = -1 must be positive");
+  m = Mortar(), m.GII = NAN;
+  expect(m, 0.01, "G_II = nan must be positive");
+  m = Mortar(), m.friction_angle = 90;
+  expect(m, 0.01, "friction_angle = 90 degrees must be in [0, 90)");
+  m = Mortar(), m.penalty = 1e5; // peak opening 0.2 m for h = 0.01
+  expect(m, 0.01, "joint_penalty = 100000 is too small for elements of size 0.01");
+  expect(Mortar(), 0, "the element size h = 0 must be positive");
+}
