@@ -107,3 +107,41 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
 }
 
 } // namespace fdem::kernels
+
+namespace fdem::kernels {
+
+double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3]) {
+  double m[3][3], d[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) m[i][k] = 0.5 * (xa[i][k] + xb[i][k]), d[i][k] = xb[i][k] - xa[i][k];
+  const double e1[3] = {m[1][0] - m[0][0], m[1][1] - m[0][1], m[1][2] - m[0][2]};
+  const double e2[3] = {m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]};
+  double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double twiceA = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(twiceA > 0)) return 0; // a collapsed mid-surface carries nothing
+  for (double &c : n) c /= twiceA;
+  const double w = twiceA / 6.0; // a third of the area per point
+  double Dmax = 0;
+  for (int q = 0; q < 3; ++q) {
+    // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
+    const int i = q, j = (q + 1) % 3;
+    double sep[3];
+    for (int k = 0; k < 3; ++k) sep[k] = 0.5 * (d[i][k] + d[j][k]);
+    const double dn = sep[0] * n[0] + sep[1] * n[1] + sep[2] * n[2];
+    double sv[3] = {sep[0] - dn * n[0], sep[1] - dn * n[1], sep[2] - dn * n[2]};
+    const double s = std::sqrt(sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2]);
+    const JointTraction t = JointTractionAt(L, dn, s, state[q]);
+    Dmax = std::max(Dmax, t.D);
+    if (state[q].broken) continue;
+    double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
+    for (int k = 0; k < 3; ++k) tr[k] = t.sigma * n[k] + (s > 0 ? t.tau * sv[k] / s : 0.0);
+    for (int k = 0; k < 3; ++k) {
+      const double f = 0.5 * w * tr[k];
+      fa[i][k] += f, fa[j][k] += f;
+      fb[i][k] -= f, fb[j][k] -= f;
+    }
+  }
+  return Dmax;
+}
+
+} // namespace fdem::kernels

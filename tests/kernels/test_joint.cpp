@@ -135,3 +135,75 @@ TEST(Joint, BadInputIsNamed) {
   expect(m, 0.01, "joint_penalty = 100000 is too small for elements of size 0.01");
   expect(Mortar(), 0, "the element size h = 0 must be positive");
 }
+
+namespace {
+// A right triangle of legs 0.1 m in the plane z = 0 (normal +z), B lifted by dz
+// and shifted by dx; optionally everything rotated about x by angle.
+void Pair(double dz, double dx, double angle, double xa[3][3], double xb[3][3]) {
+  const double P[3][3] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}};
+  const double c = std::cos(angle), s = std::sin(angle);
+  for (int i = 0; i < 3; ++i) {
+    const double a[3] = {P[i][0], P[i][1], P[i][2]}, b[3] = {P[i][0] + dx, P[i][1], P[i][2] + dz};
+    xa[i][0] = a[0], xa[i][1] = c * a[1] - s * a[2], xa[i][2] = s * a[1] + c * a[2];
+    xb[i][0] = b[0], xb[i][1] = c * b[1] - s * b[2], xb[i][2] = s * b[1] + c * b[2];
+  }
+}
+} // namespace
+
+TEST(Joint, ElementForcesOfUniformOpeningAndSlip) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  const double area = 0.005;
+  for (double angle : {0.0, 0.7}) {
+    // mode I at half the peak opening: B pulled back by 0.75 f_t A along the normal
+    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+    JointState st[3];
+    Pair(0.5 * L.dn_peak, 0, angle, xa, xb);
+    JointElementForces(L, xa, xb, st, fa, fb);
+    double FB[3] = {0, 0, 0}, FA[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) FB[k] += fb[i][k], FA[k] += fa[i][k];
+    const double nrm[3] = {0, -std::sin(angle), std::cos(angle)};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(FB[k], -0.75e6 * area * nrm[k], 1e-6) << "angle " << angle;
+      EXPECT_NEAR(FA[k] + FB[k], 0, 1e-9);
+    }
+    // mode II at the shear peak: tangential force c A opposing the slip (x)
+    double ya[3][3], yb[3][3], ga[3][3] = {}, gb[3][3] = {};
+    JointState s2[3];
+    double sp, sc;
+    JointSlipLimits(L, 0, &sp, &sc);
+    Pair(0, sp, angle, ya, yb);
+    JointElementForces(L, ya, yb, s2, ga, gb);
+    double GB[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) GB[k] += gb[i][k];
+    EXPECT_NEAR(GB[0], -3e6 * area, 1e-6);
+    EXPECT_NEAR(GB[1], 0, 1e-6);
+    EXPECT_NEAR(GB[2], 0, 1e-6);
+  }
+}
+
+TEST(Joint, ElementForcesBalanceAndVanishForCoincidentFaces) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  // arbitrary separations: the forces on A and B cancel node by node
+  double xa[3][3] = {{0, 0, 0}, {0.1, 0.01, 0}, {0.02, 0.1, 0.01}}, xb[3][3];
+  const double d[3][3] = {{1e-7, -2e-7, 3e-7}, {-1e-7, 4e-7, 1e-6}, {2e-7, 1e-7, -5e-7}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) xb[i][k] = xa[i][k] + d[i][k];
+  double fa[3][3] = {}, fb[3][3] = {};
+  JointState st[3];
+  JointElementForces(L, xa, xb, st, fa, fb);
+  double mag = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(fa[i][k] + fb[i][k], 0, 1e-12);
+      mag += std::fabs(fa[i][k]);
+    }
+  EXPECT_GT(mag, 0);
+  // coincident faces (an unloaded joint, however the body has moved): no force
+  double ca[3][3] = {}, cb[3][3] = {};
+  JointState s0[3];
+  JointElementForces(L, xa, xa, s0, ca, cb);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(ca[i][k], 0);
+}

@@ -73,3 +73,18 @@ JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointSta
 void JointSlipLimits(const JointLaw &law, double sigma, double *s_peak, double *s_crit);
 
 } // namespace fdem::kernels
+
+namespace fdem::kernels {
+
+// One joint element: the triangle A (nodes xa[0..2], ordered so that its
+// right-hand normal points out of A's tetrahedron, towards B) and the
+// triangle B (nodes xb[0..2], node i of B coincident with node i of A in the
+// unbroken reference). The separation xb - xa is taken at the 3 edge
+// midpoints (a rule exact for quadratics) on the mid-surface (xa + xb) / 2,
+// split into opening along its unit normal and slip; each point has its own
+// history (state[3]) and weighs a third of the mid-surface area. Adds the
+// nodal forces into fa[3][3] and fb[3][3] (fa = -fb summed: no net force) and
+// returns the largest damage. A broken point (state.broken) adds nothing.
+double JointElementForces(const JointLaw &law, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3]);
+
+} // namespace fdem::kernels
