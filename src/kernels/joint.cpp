@@ -13,8 +13,9 @@ double JointSoftening(double D) {
   D = std::clamp(D, 0.0, 1.0);
   const double a = kJointA, b = kJointB, c = kJointC, ab = a + b;
   const double e = std::exp(D * (a + c * b) / (ab * (1.0 - ab)));
-  const double r = 1.0 - D;
-  return (1.0 - (ab - 1.0) / ab * e) * (a * r + b * std::pow(r, c));
+  const double r = 1.0 - D, r2 = r * r;
+  static_assert(kJointC == 6.0, "r^c is multiplied out for c = 6");
+  return (1.0 - (ab - 1.0) / ab * e) * (a * r + b * (r2 * r2 * r2));
 }
 
 double JointSofteningIntegral() {
@@ -66,6 +67,8 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h) {
                      Num(2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty)) + " J/m^2 exceeds G_II = " + Num(L.GII) + "; raise the penalty above " +
                      Num(4.0 / 3.0 * h * L.c * L.c / L.GII) + " Pa");
   L.dn_crit = Critical(L.dn_peak, L.ft, L.GI);
+  const double sp0 = 2.0 * h * L.c / L.penalty;
+  L.s_span    = Critical(sp0, L.c, L.GII) - sp0;
   return L;
 }
 
@@ -76,8 +79,7 @@ void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak, double *s_
   if (s_peak) *s_peak = sp;
   // The softening span in slip is that of pure shear (fs = c: energy G_II);
   // under compression the strength, and so the energy to rupture, grow.
-  const double sp0 = 2.0 * L.h * L.c / L.penalty;
-  if (s_crit) *s_crit = sp + (Critical(sp0, L.c, L.GII) - sp0);
+  if (s_crit) *s_crit = sp + L.s_span;
 }
 
 JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState &state) {
@@ -99,7 +101,7 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
     state.broken = true;
     return t;
   }
-  const double z   = JointSoftening(state.D);
+  const double z   = state.D > 0 ? JointSoftening(state.D) : 1.0; // intact joints skip the curve
   const double fs  = std::max(L.c - std::min(sigma0, 0.0) * L.tan_phi, 0.0);
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
   t.tau   = sp > 0 ? z * fs * Hardening(s / sp) : 0.0;

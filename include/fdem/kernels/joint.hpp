@@ -39,6 +39,7 @@ struct JointMaterial {
 struct JointLaw {
   double ft = 0, c = 0, tan_phi = 0, GI = 0, GII = 0, penalty = 0, h = 0;
   double dn_peak = 0, dn_crit = 0; // opening at the peak and at rupture, m
+  double s_span = 0;               // s_crit - s_peak, the softening span of the slip (pure shear), m
 };
 
 // Checks the material and the element size and returns the law. Throws
