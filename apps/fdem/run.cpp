@@ -2,6 +2,9 @@
 
 #include "builder.hpp"
 
+#include <fdem/contact.h>
+#include <fdem/deformable_contact.h>
+#include <fdem/scene.h>
 #include <petscts.h>
 
 #include <algorithm>
@@ -10,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <csignal>
+#include <ctime>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -108,6 +112,69 @@ PetscErrorCode PrintTimeSummary(MPI_Comm comm, double wall) {
     PetscCall(PetscPrintf(comm, " %s %.2f s (%.0f%%);", name, tg, wall > 0 ? 100 * tg / wall : 0.0));
   }
   PetscCall(PetscPrintf(comm, "\n"));
+  PetscFunctionReturn(0);
+}
+
+// CPU time of this process (all its threads), s.
+double CpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+// One line per contact object: searches, and the candidate and touching tetrahedron pairs of the
+// last search and evaluation, in total and per body (what the broad phase hands the narrow phase).
+PetscErrorCode PrintContactSummary(const Sim &s, PetscInt nbodies) {
+  struct Item {
+    const char      *what;
+    FDEMContactStats st;
+    bool             on;
+  } items[3] = {{"rigid-rigid", {}, s.rc != nullptr}, {"deformable-deformable", {}, s.dc != nullptr}, {"combined", {}, s.sc != nullptr}};
+  PetscFunctionBeginUser;
+  if (s.rc) PetscCall(FDEMContactGetStats(s.rc, &items[0].st));
+  if (s.dc) PetscCall(FDEMDeformableContactGetStats(s.dc, &items[1].st));
+  if (s.sc) PetscCall(FDEMSceneGetContactStats(s.sc, &items[2].st));
+  for (const Item &it : items) {
+    if (!it.on || it.st.evaluations == 0) continue;
+    const double per = nbodies > 0 ? 1.0 / (double)nbodies : 0;
+    PetscCall(PetscPrintf(s.comm, "contact (%s): %" PetscInt_FMT " searches in %" PetscInt_FMT " evaluations; %" PetscInt_FMT " contact tetrahedra, %" PetscInt_FMT " ghosts; last search %" PetscInt_FMT " candidate pairs (%.1f per body), last evaluation %" PetscInt_FMT " touching (%.1f per body)\n", it.what, it.st.searches, it.st.evaluations,
+                          it.st.primitives, it.st.ghosts, it.st.candidate_pairs, it.st.candidate_pairs * per, it.st.active_pairs, it.st.active_pairs * per));
+  }
+  PetscFunctionReturn(0);
+}
+
+// dir/bodies.csv: the state of every rigid body at the end of the run (one row per body, in the
+// order of the scene; R row by row), for comparing runs body by body.
+PetscErrorCode WriteBodies(Sim &s, const std::string &file) {
+  PetscInt    n;
+  PetscMPIInt rank;
+  FILE       *fp = nullptr;
+  int         err = 0;
+  PetscFunctionBeginUser;
+  if (!s.rb) PetscFunctionReturn(0);
+  if (s.U) PetscCall(SimRestore(s));
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &n));
+  if (rank == 0) {
+    fp = std::fopen(file.c_str(), "w");
+    err = fp ? 0 : 1;
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_OPEN, "cannot write %s", file.c_str());
+  if (fp) std::fprintf(fp, "id,name,x,y,z,vx,vy,vz,wx,wy,wz,R00,R01,R02,R10,R11,R12,R20,R21,R22\n");
+  for (PetscInt id = 0; id < n; ++id) {
+    FDEMRigidBodyState b;
+    PetscCall(FDEMRigidGetBodyState(s.rb, id, &b));
+    if (!fp) continue;
+    std::fprintf(fp, "%" PetscInt_FMT ",%s", id, RigidBodyName(s, id).c_str());
+    for (const PetscReal *v : {b.x, b.v, b.omega_space})
+      for (int k = 0; k < 3; ++k) std::fprintf(fp, ",%.17g", (double)v[k]);
+    for (int k = 0; k < 9; ++k) std::fprintf(fp, ",%.17g", (double)b.R[k]);
+    std::fprintf(fp, "\n");
+  }
+  if (fp) err = std::fclose(fp) != 0;
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "error writing %s", file.c_str());
   PetscFunctionReturn(0);
 }
 
@@ -275,6 +342,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   prog.on     = o.progress;
   prog.rank   = rank;
   prog.tty    = isatty(fileno(stdout)) ? PETSC_TRUE : PETSC_FALSE;
+  const double cpu0 = CpuSeconds();
   PetscCall(PetscTime(&prog.wall0));
   prog.last = prog.wall0;
   PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
@@ -318,15 +386,20 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     }
   }
   PetscCall(PetscTime(&w1));
+  const double cpu1 = CpuSeconds();
   if (prog.on && prog.tty && rank == 0) std::fprintf(stdout, "\n");
   if (bal) std::fclose(bal);
   if (write) PetscCall(WriteSceneXdmf(comm, fdir, frames, s.rb != nullptr, s.dfm != nullptr));
+  if (write) PetscCall(WriteBodies(s, fdir + "/bodies.csv"));
   const double run = w1 - prog.wall0;
-  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps; wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s)\n", (double)t, step, w1 - w0, wbuild - w0, run, run > 0 ? step / run : 0.0,
-                        run > 0 ? step * (double)nbodies / run : 0.0));
+  double cpu = cpu1 - cpu0, maxcpu; // the busiest rank's CPU time in the stepping (a loaded machine slows the wall clock)
+  PetscCallMPI(MPI_Allreduce(&cpu, &maxcpu, 1, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps; wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.2f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, step, w1 - w0, wbuild - w0, run,
+                        run > 0 ? step / run : 0.0, run > 0 ? step * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? step * (double)nbodies / (maxcpu * size) : 0.0));
   PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
                         b.dissipated, maxdP));
   PetscCall(PrintTimeSummary(comm, run));
+  PetscCall(PrintContactSummary(s, nbodies));
   if (write)
     PetscCall(PetscPrintf(comm, "output: %s/balance.csv (energy and momentum balance; chart: fdem plot %s), %s/scene.xmf (%d frames of all bodies: open it in ParaView, choose the Xdmf3 reader, Apply, then play the animation)\n", dir.c_str(),
                           dir.c_str(), fdir.c_str(), (int)frames.size()));

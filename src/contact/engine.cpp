@@ -16,21 +16,52 @@ namespace {
 PetscClassId  CLASSID = 0;
 PetscLogEvent EV_LIST = 0, EV_GHOST = 0, EV_SEARCH = 0, EV_FORCE = 0;
 
-// A rank's region: NBOX boxes from a k-d split of its primitives' bounding spheres, BW numbers
-// each: lo(3), -hi(3) (empty: +inf), the body and the kind of all its primitives (-1: several),
-// and the bit mask of the kinds in it.
-constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, BW = 9;
+// A rank's region: NGROUP groups of NBOX boxes each, from a k-d split of the bounding boxes of
+// its primitives (group 0: the primitives up to twice the median size; group 1: the larger ones,
+// such as a wall's, which would otherwise swell the small boxes); BW numbers per box: lo(3), -hi(3)
+// (empty: +inf), the body and the kind of all its primitives (-1: several), the bit mask of the
+// kinds in it and whether it holds a primitive of a body that moves.
+constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, NGROUP = 2, BW = 10;
 
-// Bounding sphere (with half the buffer) of a tetrahedron.
-void Sphere(const Tet4 &T, PetscReal half_buffer, double ct[3], double *r) {
-  const Vec3 m  = 0.25 * (T[0] + T[1] + T[2] + T[3]);
-  double     rr = 0;
-  for (int k = 0; k < 4; ++k) rr = std::max(rr, norm(T[k] - m));
-  for (int k = 0; k < 3; ++k) ct[k] = m[k];
-  *r = rr + half_buffer;
+// Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by half the buffer: until the
+// next search (no vertex moved more than half the buffer) the tetrahedron stays inside it.
+void Box(const Tet4 &T, PetscReal half_buffer, double b[6]) {
+  for (int k = 0; k < 3; ++k) {
+    double lo = T[0][k], hi = T[0][k];
+    for (int v = 1; v < 4; ++v) {
+      lo = std::min(lo, T[v][k]);
+      hi = std::max(hi, T[v][k]);
+    }
+    b[k]     = lo - half_buffer;
+    b[3 + k] = hi + half_buffer;
+  }
+}
+
+// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
+bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
+  for (int k = 0; k < 3; ++k) {
+    const double alo = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
+    const double ahi = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
+    const double blo = std::min(std::min(b[0][k], b[1][k]), std::min(b[2][k], b[3][k]));
+    const double bhi = std::max(std::max(b[0][k], b[1][k]), std::max(b[2][k], b[3][k]));
+    if (alo > bhi || blo > ahi) return false;
+  }
+  return true;
 }
 
 bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
+
+// Which of two primitives' owners computes their pair (a before b): with one fixed, the owner of
+// the other (a wall needs no pebble as a ghost); otherwise one chosen by a hash of the two keys,
+// so that the pairs shared by two ranks are split evenly between them (the smaller key would give
+// every pair of the first bodies to one rank). Both ranks holding the pair decide alike.
+bool FirstComputes(const Primitive &a, const Primitive &b) {
+  if (a.fixed != b.fixed) return !a.fixed;
+  std::uint64_t h = (std::uint64_t)a.key * 0x9E3779B97F4A7C15ull + (std::uint64_t)a.kind;
+  h ^= ((std::uint64_t)b.key + ((std::uint64_t)b.kind << 48)) * 0xC2B2AE3D27D4EB4Full;
+  h ^= h >> 29;
+  return (h >> 7 & 1u) == 0;
+}
 
 double Volume6(const Tet4 &a) { return std::fabs(dot(a[1] - a[0], cross(a[2] - a[0], a[3] - a[0]))); }
 } // namespace
@@ -180,75 +211,92 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
   PetscFunctionReturn(0);
 }
 
-// The halo and the candidate pairs. Each rank's region is NBOX boxes around the bounding
-// spheres of its primitives; a primitive whose sphere meets another rank's box is sent there
-// as a ghost (unless no allowed pair can form with that box's primitives). A pair whose
-// spheres overlap lies on the rank owning the primitive with the smaller (kind, key), which
-// computes it; forces on ghosts go back through the same SF.
+// The halo and the candidate pairs. Each rank's region is NGROUP x NBOX boxes around the bounding
+// boxes of its primitives; a primitive whose box meets another rank's box is sent there as a ghost
+// when a pair can form there that the other rank computes (FirstComputes). The candidate pairs
+// are the pairs of primitives whose boxes (grown by half the buffer) overlap, found level by level
+// (kernels::BoxSearch), each computed by one rank; forces on ghosts go back through the same SF.
 PetscErrorCode Engine::Search() {
   const PetscReal half = 0.5 * stats_.buffer;
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   const int           nl = nl_;
-  std::vector<double> centres(3 * (size_t)nl), radii(nl);
-  for (int i = 0; i < nl; ++i) Sphere(x_[i], half, &centres[3 * (size_t)i], &radii[i]);
-  std::vector<double> box(BW * NBOX, INFINITY);
-  {
-    std::vector<int> idx(nl);
-    for (int i = 0; i < nl; ++i) idx[i] = i;
-    std::function<void(int, int, int, int)> split = [&](int b, int e, int depth, int slot) {
-      if (b >= e) return;
-      if (depth == 0) {
-        double *bx = &box[BW * slot];
-        bx[6]      = (double)prim_[idx[b]].body;
-        bx[7]      = (double)prim_[idx[b]].kind;
-        unsigned mask = 0;
-        for (int j = b; j < e; ++j) {
-          const int i = idx[j];
-          for (int k = 0; k < 3; ++k) {
-            bx[k]     = std::min(bx[k], centres[3 * i + k] - radii[i]);
-            bx[3 + k] = std::min(bx[3 + k], -(centres[3 * i + k] + radii[i]));
+  std::vector<double> boxes(6 * (size_t)nl);
+  for (int i = 0; i < nl; ++i) Box(x_[i], half, &boxes[6 * (size_t)i]);
+  std::vector<double> box(BW * NGROUP * NBOX, INFINITY);
+  if (size_ > 1) { // one rank: no one to send to
+    std::vector<double> size(nl), med;
+    for (int i = 0; i < nl; ++i)
+      for (int k = 0; k < 3; ++k) size[i] = std::max(size[i], boxes[6 * i + 3 + k] - boxes[6 * i + k]);
+    med = size;
+    if (nl) std::nth_element(med.begin(), med.begin() + nl / 2, med.end());
+    const double     large = nl ? 2 * med[nl / 2] : 0;
+    std::vector<int> idx[NGROUP];
+    for (int i = 0; i < nl; ++i) idx[size[i] > large ? 1 : 0].push_back(i);
+    auto mid = [&](int i, int k) { return boxes[6 * i + k] + boxes[6 * i + 3 + k]; };
+    for (int g = 0; g < NGROUP; ++g) {
+      std::function<void(int, int, int, int)> split = [&](int b, int e, int depth, int slot) {
+        if (b >= e) return;
+        if (depth == 0) {
+          double *bx = &box[BW * (g * NBOX + slot)];
+          bx[6]      = (double)prim_[idx[g][b]].body;
+          bx[7]      = (double)prim_[idx[g][b]].kind;
+          unsigned mask = 0, moves = 0;
+          for (int j = b; j < e; ++j) {
+            const int i = idx[g][j];
+            for (int k = 0; k < 3; ++k) {
+              bx[k]     = std::min(bx[k], boxes[6 * i + k]);
+              bx[3 + k] = std::min(bx[3 + k], -boxes[6 * i + 3 + k]);
+            }
+            if ((double)prim_[i].body != bx[6] || (double)prim_[i].kind != bx[7]) bx[6] = -1;
+            if ((double)prim_[i].kind != bx[7]) bx[7] = -1;
+            mask |= 1u << prim_[i].kind;
+            moves |= prim_[i].fixed ? 0u : 1u;
           }
-          if ((double)prim_[i].body != bx[6] || (double)prim_[i].kind != bx[7]) bx[6] = -1;
-          if ((double)prim_[i].kind != bx[7]) bx[7] = -1;
-          mask |= 1u << prim_[i].kind;
+          bx[8] = mask;
+          bx[9] = moves;
+          return;
         }
-        bx[8] = mask;
-        return;
-      }
-      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      for (int j = b; j < e; ++j)
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], centres[3 * idx[j] + k]);
-          hi[k] = std::max(hi[k], centres[3 * idx[j] + k]);
-        }
-      int ax = 0;
-      for (int k = 1; k < 3; ++k)
-        if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
-      const int m = b + (e - b) / 2;
-      std::nth_element(idx.begin() + b, idx.begin() + m, idx.begin() + e, [&](int u, int v) { return centres[3 * u + ax] < centres[3 * v + ax]; });
-      split(b, m, depth - 1, 2 * slot);
-      split(m, e, depth - 1, 2 * slot + 1);
-    };
-    if (size_ > 1) split(0, nl, NBOX_DEPTH, 0); // one rank: no one to send to
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int j = b; j < e; ++j)
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], mid(idx[g][j], k));
+            hi[k] = std::max(hi[k], mid(idx[g][j], k));
+          }
+        int ax = 0;
+        for (int k = 1; k < 3; ++k)
+          if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
+        const int m = b + (e - b) / 2;
+        std::nth_element(idx[g].begin() + b, idx[g].begin() + m, idx[g].begin() + e, [&](int u, int v) { return mid(u, ax) < mid(v, ax); });
+        split(b, m, depth - 1, 2 * slot);
+        split(m, e, depth - 1, 2 * slot + 1);
+      };
+      split(0, (int)idx[g].size(), NBOX_DEPTH, 0);
+    }
   }
-  std::vector<double> boxes(BW * NBOX * (size_t)size_);
-  PetscCallMPI(MPI_Allgather(box.data(), BW * NBOX, MPI_DOUBLE, boxes.data(), BW * NBOX, MPI_DOUBLE, comm_));
-  // 1. who needs which of my primitives
+  const int           nbox = NGROUP * NBOX;
+  std::vector<double> all(BW * nbox * (size_t)size_);
+  PetscCallMPI(MPI_Allgather(box.data(), BW * nbox, MPI_DOUBLE, all.data(), BW * nbox, MPI_DOUBLE, comm_));
+  // 1. who needs which of my primitives: a rank with a primitive near it that can pair with it,
+  //    unless I compute every such pair (mine moves, theirs in that box are all fixed)
   std::vector<std::vector<PetscInt>> send(size_);
   for (int s = 0; s < size_; ++s) {
     if (s == rank_) continue;
     for (int i = 0; i < nl; ++i) {
       const Primitive &p    = prim_[i];
       const bool       self = par_.self && adapters_[p.kind]->CanSelfContact();
-      for (int q = 0; q < NBOX; ++q) {
-        const double  *b    = &boxes[BW * ((size_t)s * NBOX + q)];
-        const unsigned mask = b[8] < INFINITY ? (unsigned)b[8] : 0u;
+      const double    *pb   = &boxes[6 * (size_t)i];
+      for (int q = 0; q < nbox; ++q) {
+        const double  *b    = &all[BW * ((size_t)s * nbox + q)];
+        if (!(b[0] < INFINITY)) continue; // empty
+        const unsigned mask = (unsigned)b[8];
         bool           in   = false;
         for (int k = 0; k < (int)adapters_.size() && !in; ++k) in = (mask >> k & 1u) && allow_[p.kind][k];
         // no pairs within one body without self-contact
         in = in && (self || b[6] != (double)p.body || b[7] != (double)p.kind);
-        for (int k = 0; k < 3 && in; ++k) in = centres[3 * i + k] + radii[i] >= b[k] && centres[3 * i + k] - radii[i] <= -b[3 + k];
+        // theirs all fixed: mine fixed too (no pair) or mine moves (I compute them all)
+        in = in && b[9] != 0;
+        for (int k = 0; k < 3 && in; ++k) in = pb[3 + k] >= b[k] && pb[k] <= -b[3 + k];
         if (in) {
           send[s].push_back(i);
           break;
@@ -270,21 +318,18 @@ PetscErrorCode Engine::Search() {
     PetscCall(PetscSFDestroy(&sfs));
   }
   PetscCall(UpdateGhosts(true, false));
-  // 3. cell search over own + ghost primitives
+  // 3. the candidate pairs among own and ghost primitives: boxes that overlap
   const int N = nl + ng_;
-  centres.resize(3 * (size_t)N);
-  radii.resize(N);
-  double dmax = 0;
-  for (int i = nl; i < N; ++i) Sphere(gx_[i - nl], half, &centres[3 * (size_t)i], &radii[i]);
-  for (int i = 0; i < N; ++i) dmax = std::max(dmax, 2 * radii[i]);
+  boxes.resize(6 * (size_t)N);
+  for (int i = nl; i < N; ++i) Box(gx_[i - nl], half, &boxes[6 * (size_t)i]);
   pairs_.clear();
   {
     PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
       if (nl == 0) return 0;
-      fdem::kernels::CellSearch        cs;
+      fdem::kernels::BoxSearch         bs;
       std::vector<std::pair<int, int>> tp;
-      cs.Build(centres.data(), radii.data(), N, dmax * (1 + 1e-12));
-      cs.FindPairs(tp);
+      bs.Build(boxes.data(), N);
+      bs.FindPairs(tp);
       for (const auto &pr : tp) {
         int              a = pr.first, b = pr.second;
         const Primitive &A = P(a), &B = P(b);
@@ -296,8 +341,9 @@ PetscErrorCode Engine::Search() {
             for (int j = 0; j < 4; ++j) share = share || (A.node[i] >= 0 && A.node[i] == B.node[j]);
           if (share) continue;
         }
-        if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), computed by its owner
-        if (a >= nl) continue;
+        if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
+        if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
+        if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
         pairs_.push_back({a, b});
       }
       return 0;
@@ -306,10 +352,9 @@ PetscErrorCode Engine::Search() {
   // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere
   {
     std::vector<char> t(nl, 0);
-    for (const auto &p : pairs_) {
-      t[p[0]] = 1;
-      if (p[1] < nl) t[p[1]] = 1;
-    }
+    for (const auto &p : pairs_)
+      for (int i : p)
+        if (i < nl) t[i] = 1;
     for (const auto &s : send)
       for (PetscInt i : s) t[i] = 1;
     touch_.assign(adapters_.size(), {});
@@ -379,7 +424,7 @@ PetscErrorCode Engine::Evaluate() {
     std::array<Vec3, 4>           fa, fb, da, db;
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!fdem::kernels::PotentialContactForce(a, b, pen, pen, pc)) continue;
+      if (!BoxesMeet(a, b) || !fdem::kernels::PotentialContactForce(a, b, pen, pen, pc)) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
       if (!checked_initial_) {
@@ -396,7 +441,7 @@ PetscErrorCode Engine::Evaluate() {
           fb[k] += db[k];
         }
       }
-      Vertices &oa = f_[p[0]], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
+      Vertices &oa = p[0] < nl_ ? f_[p[0]] : gf_[p[0] - nl_], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
       for (int k = 0; k < 4; ++k) {
         oa[k] += fa[k];
         ob[k] += fb[k];

@@ -155,7 +155,7 @@ private:
   std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
   std::vector<std::vector<int>> touch_; // per adapter: its primitives in a pair here or ghosts elsewhere (increasing)
   PetscSF                       sf_ = nullptr; // one Vertices record per primitive
-  std::vector<std::array<int, 2>> pairs_;      // (own primitive, own or ghost), the first computes
+  std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   Stats                         stats_{};
 };

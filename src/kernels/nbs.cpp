@@ -64,6 +64,7 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
     throw InputError("CellSearch::Build: cell size must be finite and > 0, got " + std::to_string(cell));
   n_ = n;
   cell_ = cell;
+  inv_ = 0;
   have_radii_ = radii != nullptr;
   cell_start_.clear();
   cell_x_.clear();
@@ -111,6 +112,11 @@ void CellSearch::Build(const double *c, const double *radii, int n, double cell)
   auto index = [&](double v, int d) {
     return static_cast<std::uint64_t>(static_cast<std::int64_t>((v - lo[d]) * inv));
   };
+  for (int d = 0; d < 3; ++d) {
+    origin_[d] = lo[d];
+    max_index_[d] = index(hi[d], d);
+  }
+  inv_ = inv;
   const int bx = BitsFor(index(hi[0], 0)), by = BitsFor(index(hi[1], 1)), bz = BitsFor(index(hi[2], 2));
   const int total = bx + by + bz;
   const double half = 0.5 * cell;
@@ -357,6 +363,46 @@ std::size_t Search(const SearchView &v, std::vector<std::pair<int, int>> &pairs)
 
 } // namespace
 
+void CellSearch::FindInBox(const double lo[3], const double hi[3], std::vector<int> &out) const {
+  if (n_ == 0) return;
+  // An element's centre lies within r <= cell/2 of the box when their boxes meet.
+  std::uint64_t i0[3], i1[3];
+  const double half = 0.5 * cell_;
+  for (int d = 0; d < 3; ++d) {
+    const double a = (lo[d] - half - origin_[d]) * inv_, b = (hi[d] + half - origin_[d]) * inv_;
+    if (!(b >= 0) || !(a <= static_cast<double>(max_index_[d]) + 1)) return; // also NaN
+    i0[d] = a <= 0 ? 0 : static_cast<std::uint64_t>(a);
+    i1[d] = b >= static_cast<double>(max_index_[d]) ? max_index_[d] : static_cast<std::uint64_t>(b);
+  }
+  const int nrows = NumRows();
+  const std::uint64_t *rz = row_z_.data(), *ry = row_y_.data();
+  const double *E = elem_.data();
+  auto meets = [&](int p) {
+    const double *e = E + 4 * std::size_t(p);
+    return (e[0] + e[3] >= lo[0]) & (e[0] - e[3] <= hi[0]) & (e[1] + e[3] >= lo[1]) & (e[1] - e[3] <= hi[1]) &
+           (e[2] + e[3] >= lo[2]) & (e[2] - e[3] <= hi[2]);
+  };
+  // rows are in (z, y) order: one binary search per z layer, then a walk along y
+  int r = 0;
+  for (std::uint64_t z = i0[2]; z <= i1[2]; ++z) {
+    r = static_cast<int>(std::lower_bound(rz + r, rz + nrows, z) - rz);
+    if (r == nrows) break;
+    if (rz[r] != z) { // jump to the next non-empty layer
+      if (rz[r] > i1[2]) break;
+      z = rz[r];
+    }
+    int q = static_cast<int>(std::lower_bound(ry + r, ry + (std::upper_bound(rz + r, rz + nrows, z) - rz), i0[1]) - ry);
+    for (; q < nrows && rz[q] == z && ry[q] <= i1[1]; ++q) {
+      const std::uint64_t *cx = cell_x_.data();
+      int c = static_cast<int>(std::lower_bound(cx + row_cell_[q], cx + row_cell_[q + 1], i0[0]) - cx);
+      for (; c < row_cell_[q + 1] && cx[c] <= i1[0]; ++c)
+        for (int p = cell_start_[c]; p < cell_start_[c + 1]; ++p)
+          if (meets(p)) out.push_back(id_[p]);
+    }
+    r = q;
+  }
+}
+
 void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
   const int nrows = NumRows();
   if (nrows <= 0) {
@@ -367,6 +413,90 @@ void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
                      row_y_.data(), cell_x_.data(),   elem_.data(),      cell_};
   const std::size_t cnt = have_radii_ ? Search<true>(v, pairs) : Search<false>(v, pairs);
   pairs.resize(cnt);
+}
+
+namespace {
+inline bool BoxesMeet(const double *a, const double *b) {
+  return (a[0] <= b[3]) & (b[0] <= a[3]) & (a[1] <= b[4]) & (b[1] <= a[4]) & (a[2] <= b[5]) & (b[2] <= a[5]);
+}
+} // namespace
+
+void BoxSearch::Build(const double *boxes, int n) {
+  if (n < 0) throw InputError("BoxSearch::Build: negative box count " + std::to_string(n));
+  boxes_.assign(boxes, boxes + 6 * std::size_t(n));
+  levels_.clear();
+  std::vector<double> size(n);
+  for (int i = 0; i < n; ++i) {
+    const double *b = boxes + 6 * std::size_t(i);
+    double s = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (!std::isfinite(b[d]) || !std::isfinite(b[3 + d]) || !(b[d] <= b[3 + d]))
+        throw InputError("BoxSearch::Build: box " + std::to_string(i) + " is not finite or has lo > hi");
+      s = std::max(s, b[3 + d] - b[d]);
+    }
+    size[i] = s;
+  }
+  if (n == 0) return;
+  std::vector<double> sorted(size);
+  std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+  const double base = 2 * sorted[n / 2];
+  std::vector<int> level(n, 0);
+  int nlev = 1;
+  for (int i = 0; i < n; ++i) {
+    int k = 0;
+    for (double t = base; size[i] > t && k < 60; t *= 4) ++k;
+    level[i] = k;
+    nlev = std::max(nlev, k + 1);
+  }
+  std::vector<Level> lv(nlev);
+  for (int i = 0; i < n; ++i) lv[level[i]].ids.push_back(i);
+  std::vector<double> c, r;
+  for (Level &L : lv) {
+    if (L.ids.empty()) continue;
+    const int m = static_cast<int>(L.ids.size());
+    c.resize(3 * std::size_t(m));
+    r.resize(m);
+    double dmax = 0;
+    for (int j = 0; j < m; ++j) {
+      const double *b = boxes + 6 * std::size_t(L.ids[j]);
+      double h = 0;
+      for (int d = 0; d < 3; ++d) {
+        c[3 * j + d] = 0.5 * (b[d] + b[3 + d]);
+        h = std::max(h, 0.5 * (b[3 + d] - b[d]));
+      }
+      r[j] = h;
+      dmax = std::max(dmax, 2 * h);
+    }
+    // cells no smaller than the largest box (a level of points gets a tiny positive cell)
+    const double cell = dmax > 0 ? dmax * (1 + 1e-12) : 1e-300;
+    L.cs.Build(c.data(), r.data(), m, std::max(cell, 1e-300));
+    levels_.push_back(std::move(L));
+  }
+}
+
+void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
+  pairs.clear();
+  const double *B = boxes_.data();
+  std::vector<std::pair<int, int>> tp;
+  std::vector<int> hits;
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    const Level &L = levels_[l];
+    L.cs.FindPairs(tp); // cubes around the boxes: test the boxes themselves
+    for (const auto &p : tp) {
+      const int a = L.ids[p.first], b = L.ids[p.second];
+      if (BoxesMeet(B + 6 * std::size_t(a), B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+    }
+    for (std::size_t k = 0; k < l; ++k) // the smaller levels, one query per box of this level
+      for (int a : L.ids) {
+        const double *ba = B + 6 * std::size_t(a);
+        hits.clear();
+        levels_[k].cs.FindInBox(ba, ba + 3, hits);
+        for (int j : hits) {
+          const int b = levels_[k].ids[j];
+          if (BoxesMeet(ba, B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+        }
+      }
+  }
 }
 
 } // namespace fdem::kernels

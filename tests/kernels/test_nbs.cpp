@@ -252,3 +252,118 @@ TEST(CellSearch, RejectsBadInput) {
   EXPECT_THROW(cs.Build(c, r, 2, 1.0), InputError); // diameter 1.2 > cell 1
   EXPECT_THROW(cs.Build(nan, nullptr, 2, 1.0), InputError);
 }
+
+// ---------------------------------------------------------------- box queries and mixed sizes
+namespace {
+bool Meet(const double *a, const double *b) {
+  for (int d = 0; d < 3; ++d)
+    if (a[d] > b[3 + d] || b[d] > a[3 + d]) return false;
+  return true;
+}
+
+// n boxes: most small (size ~ s), some a few times larger, a handful huge (walls).
+std::vector<double> MixedBoxes(std::mt19937_64 &rng, int n, double L, double s) {
+  std::uniform_real_distribution<double> U(0, L), V(0.2, 1.0);
+  std::vector<double> b(6 * std::size_t(n));
+  for (int i = 0; i < n; ++i) {
+    const double scale = i % 50 == 0 ? 40 : i % 7 == 0 ? 5 : 1; // huge, medium, small
+    for (int d = 0; d < 3; ++d) {
+      const double c = U(rng), h = 0.5 * s * scale * V(rng);
+      b[6 * i + d]     = c - h;
+      b[6 * i + 3 + d] = c + h;
+    }
+  }
+  return b;
+}
+} // namespace
+
+TEST(CellSearch, FindInBoxAgainstBruteForce) {
+  std::mt19937_64 rng(11);
+  const int n = 3000;
+  std::vector<double> c = Uniform(rng, n, 10.0, -3.0), r(n);
+  std::uniform_real_distribution<double> R(0.0, 0.25);
+  for (double &x : r) x = R(rng);
+  CellSearch cs;
+  cs.Build(c.data(), r.data(), n, 0.5);
+  std::uniform_real_distribution<double> Q(-5.0, 9.0), H(0.0, 3.0);
+  int total = 0;
+  for (int q = 0; q < 200; ++q) {
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = Q(rng);
+      hi[d] = lo[d] + (q % 3 == 0 ? 0.0 : H(rng)); // some queries are points
+    }
+    std::vector<int> got, ref;
+    cs.FindInBox(lo, hi, got);
+    for (int i = 0; i < n; ++i) {
+      bool in = true;
+      for (int d = 0; d < 3; ++d) in = in && c[3 * i + d] + r[i] >= lo[d] && c[3 * i + d] - r[i] <= hi[d];
+      if (in) ref.push_back(i);
+    }
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, ref) << "query " << q;
+    total += (int)ref.size();
+  }
+  EXPECT_GT(total, 300) << "the queries must find something to mean anything";
+  // a box outside everything finds nothing; `out` is appended to, not cleared
+  std::vector<int> out{-7};
+  const double lo[3] = {100, 100, 100}, hi[3] = {101, 101, 101};
+  cs.FindInBox(lo, hi, out);
+  EXPECT_EQ(out, std::vector<int>{-7});
+}
+
+TEST(BoxSearch, MixedSizesAgainstBruteForce) {
+  for (int seed : {1, 2, 3}) {
+    std::mt19937_64 rng(seed);
+    const int n = 2500;
+    const std::vector<double> b = MixedBoxes(rng, n, 12.0, 0.4);
+    BoxSearch bs;
+    bs.Build(b.data(), n);
+    EXPECT_GE(bs.NumLevels(), 3) << "small, medium and huge boxes make several levels";
+    Pairs got, ref;
+    bs.FindPairs(got);
+    for (const auto &p : got) ASSERT_LT(p.first, p.second);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(std::adjacent_find(got.begin(), got.end()), got.end()) << "a pair reported twice";
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (Meet(&b[6 * i], &b[6 * j])) ref.emplace_back(i, j);
+    EXPECT_EQ(got, ref) << "seed " << seed << ": " << got.size() << " pairs vs " << ref.size() << " by brute force";
+    EXPECT_GT(ref.size(), 2000u);
+  }
+}
+
+TEST(BoxSearch, EqualSizesTouchingAndDegenerate) {
+  // a lattice of unit boxes touching face to face, and flat boxes (zero thickness)
+  std::vector<double> b;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) b.insert(b.end(), {double(i), double(j), double(k), i + 1.0, j + 1.0, k + 1.0});
+  b.insert(b.end(), {0.5, 0.5, 2.0, 3.5, 3.5, 2.0}); // a flat plate on the plane z = 2
+  b.insert(b.end(), {9, 9, 9, 9, 9, 9});             // a point, far away
+  const int n = (int)(b.size() / 6);
+  BoxSearch bs;
+  bs.Build(b.data(), n);
+  Pairs got, ref;
+  bs.FindPairs(got);
+  std::sort(got.begin(), got.end());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      if (Meet(&b[6 * i], &b[6 * j])) ref.emplace_back(i, j);
+  EXPECT_EQ(got, ref);
+  // 64 cubes: 3*3*3*... neighbours incl. edges and corners; the plate meets the 2 layers it touches
+  EXPECT_GT(ref.size(), 64u * 3);
+}
+
+TEST(BoxSearch, RejectsBadBoxes) {
+  BoxSearch bs;
+  const double inverted[6] = {0, 0, 1, 1, 1, 0};
+  EXPECT_THROW(bs.Build(inverted, 1), InputError);
+  const double nan[6] = {0, 0, 0, 1, NAN, 1};
+  EXPECT_THROW(bs.Build(nan, 1), InputError);
+  EXPECT_THROW(bs.Build(nullptr, -1), InputError);
+  bs.Build(nullptr, 0);
+  Pairs p{{1, 2}};
+  bs.FindPairs(p);
+  EXPECT_TRUE(p.empty());
+}

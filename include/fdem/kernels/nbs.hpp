@@ -29,6 +29,12 @@ public:
   // Each pair once, in no particular order. `pairs` is cleared first.
   void FindPairs(std::vector<std::pair<int, int>> &pairs) const;
 
+  // The elements whose bounding boxes (centre +- r, or +- cell/2 without
+  // radii) meet or touch the box [lo, hi], appended to `out` (not cleared),
+  // in cell order. The cost is the number of non-empty rows and cells the box
+  // spans plus the elements in them.
+  void FindInBox(const double lo[3], const double hi[3], std::vector<int> &out) const;
+
   int NumElements() const { return n_; }
   int NumCells() const { return static_cast<int>(cell_start_.size()) - 1; } // non-empty cells
   int NumRows() const { return static_cast<int>(row_cell_.size()) - 1; } // non-empty rows
@@ -36,6 +42,8 @@ public:
 private:
   int n_ = 0;
   double cell_ = 0;
+  double origin_[3] = {0, 0, 0}, inv_ = 0; // cell index of v along d: (v - origin_[d]) * inv_
+  std::uint64_t max_index_[3] = {0, 0, 0};
   bool have_radii_ = false;
   // Element data in cell order, four doubles each (x, y, z and the bounding
   // radius, cell / 2 when no radii are given) so that a run of cells is one
@@ -55,6 +63,34 @@ private:
   std::vector<std::uint32_t> count_;
   std::vector<std::uint64_t> ix_, iy_, iz_;
   std::vector<int> order_;
+};
+
+// Broad phase for axis-aligned boxes of very different sizes -- a wall's or a
+// mesh's large tetrahedra among the small ones of pebbles -- where one cell
+// size (that of the largest box) would put hundreds of small boxes in every
+// cell. The boxes are grouped in levels by size: level 0 holds the boxes up to
+// twice the median size, level k those up to 4^k times that. Each level has its
+// own CellSearch with cells as large as its largest box; pairs within a level
+// come from its FindPairs, pairs across levels from a FindInBox of the larger
+// box in the smaller level. Every candidate is then tested box against box,
+// so the result is exactly the pairs of overlapping (or touching) boxes.
+class BoxSearch {
+public:
+  // boxes: 6n doubles, lo(3) then hi(3) of each box. Copied. Throws InputError
+  // on n < 0, a non-finite coordinate or lo > hi.
+  void Build(const double *boxes, int n);
+  // All pairs (i, j), i < j, of boxes that overlap or touch, each once, in an
+  // order that depends only on the boxes. `pairs` is cleared first.
+  void FindPairs(std::vector<std::pair<int, int>> &pairs) const;
+  int NumLevels() const { return static_cast<int>(levels_.size()); }
+
+private:
+  struct Level {
+    CellSearch cs;
+    std::vector<int> ids; // the level's element j is box ids[j]
+  };
+  std::vector<double> boxes_;
+  std::vector<Level> levels_;
 };
 
 } // namespace fdem::kernels
