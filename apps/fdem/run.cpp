@@ -342,6 +342,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   prog.on     = o.progress;
   prog.rank   = rank;
   prog.tty    = isatty(fileno(stdout)) ? PETSC_TRUE : PETSC_FALSE;
+  prog.step0  = step;
   const double cpu0 = CpuSeconds();
   PetscCall(PetscTime(&prog.wall0));
   prog.last = prog.wall0;
@@ -394,8 +395,9 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const double run = w1 - prog.wall0;
   double cpu = cpu1 - cpu0, maxcpu; // the busiest rank's CPU time in the stepping (a loaded machine slows the wall clock)
   PetscCallMPI(MPI_Allreduce(&cpu, &maxcpu, 1, MPI_DOUBLE, MPI_MAX, comm));
-  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps; wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.2f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, step, w1 - w0, wbuild - w0, run,
-                        run > 0 ? step / run : 0.0, run > 0 ? step * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? step * (double)nbodies / (maxcpu * size) : 0.0));
+  const PetscInt ran = step - prog.step0; // steps of this run (a restart starts at the checkpoint's)
+  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps (to step %" PetscInt_FMT "); wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.2f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, ran, step,
+                        w1 - w0, wbuild - w0, run, run > 0 ? ran / run : 0.0, run > 0 ? ran * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? ran * (double)nbodies / (maxcpu * size) : 0.0));
   PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
                         b.dissipated, maxdP));
   PetscCall(PrintTimeSummary(comm, run));

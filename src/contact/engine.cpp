@@ -23,9 +23,9 @@ PetscLogEvent EV_LIST = 0, EV_GHOST = 0, EV_SEARCH = 0, EV_FORCE = 0;
 // kinds in it and whether it holds a primitive of a body that moves.
 constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, NGROUP = 2, BW = 10;
 
-// Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by half the buffer: until the
-// next search (no vertex moved more than half the buffer) the tetrahedron stays inside it.
-void Box(const Tet4 &T, PetscReal half_buffer, double b[6]) {
+// Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by its margin: until the next
+// search (no vertex moved more than its margin) the tetrahedron stays inside it.
+void Box(const Tet4 &T, double half_buffer, double b[6]) {
   for (int k = 0; k < 3; ++k) {
     double lo = T[0][k], hi = T[0][k];
     for (int v = 1; v < 4; ++v) {
@@ -221,8 +221,12 @@ PetscErrorCode Engine::Search() {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   const int           nl = nl_;
-  std::vector<double> boxes(6 * (size_t)nl);
-  for (int i = 0; i < nl; ++i) Box(x_[i], half, &boxes[6 * (size_t)i]);
+  std::vector<double> boxes(6 * (size_t)nl), margin(nl);
+  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Margins(half, searched_ ? since_search_ : 0, margin.data() + first_[k]));
+  for (int i = 0; i < nl; ++i) {
+    prim_[i].margin = std::max(margin[i], (double)half);
+    Box(x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
+  }
   std::vector<double> box(BW * NGROUP * NBOX, INFINITY);
   if (size_ > 1) { // one rank: no one to send to
     std::vector<double> size(nl), med;
@@ -321,7 +325,7 @@ PetscErrorCode Engine::Search() {
   // 3. the candidate pairs among own and ghost primitives: boxes that overlap
   const int N = nl + ng_;
   boxes.resize(6 * (size_t)N);
-  for (int i = nl; i < N; ++i) Box(gx_[i - nl], half, &boxes[6 * (size_t)i]);
+  for (int i = nl; i < N; ++i) Box(gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
   pairs_.clear();
   {
     PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
@@ -364,7 +368,8 @@ PetscErrorCode Engine::Search() {
   }
   for (auto *a : adapters_) PetscCall(a->Searched());
   gf_.resize(ng_);
-  searched_ = true;
+  searched_     = true;
+  since_search_ = 0;
   stats_.searches++;
   PetscInt loc[2] = {(PetscInt)pairs_.size(), (PetscInt)ng_}, glob[2];
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, comm_));
@@ -392,16 +397,18 @@ PetscErrorCode Engine::Evaluate() {
   if (!listed_) PetscCall(ListAll());
   with_v_ = par_.Dissipative();
   if (with_v_) v_.resize(nl_);
-  // the re-search rule: some vertex moved more than half the buffer since the last search (all ranks)
-  PetscReal move = searched_ ? 0 : PETSC_MAX_REAL, gmove;
+  // the re-search rule: some vertex moved more than its margin (at least half the buffer) since
+  // the last search (all ranks)
+  PetscReal ratio = searched_ ? 0 : PETSC_MAX_REAL, gratio;
   if (searched_)
     for (auto *a : adapters_) {
-      PetscReal m;
-      PetscCall(a->MaxMove(&m));
-      move = std::max(move, m);
+      PetscReal r;
+      PetscCall(a->MoveRatio(&r));
+      ratio = std::max(ratio, r);
     }
-  PetscCallMPI(MPI_Allreduce(&move, &gmove, 1, MPIU_REAL, MPI_MAX, comm_));
-  const bool search = gmove > 0.5 * stats_.buffer;
+  PetscCallMPI(MPI_Allreduce(&ratio, &gratio, 1, MPIU_REAL, MPI_MAX, comm_));
+  const bool search = gratio > 1 || !(stats_.buffer > 0);
+  ++since_search_;
   if (search) {
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
     PetscCall(Search());

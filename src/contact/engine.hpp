@@ -32,6 +32,7 @@ struct Primitive {
   PetscInt     elem  = 0;  // the element within its kind (skin tetrahedron, global mesh element id)
   std::int64_t key   = 0;  // unique within the kind; a pair is computed by the owner of the smaller (kind, key)
   PetscInt     node[4] = {-1, -1, -1, -1}; // global node ids (self-contact skips neighbours); -1: none
+  double       margin  = 0; // set at each search: how far it may move before the next (>= buffer/2)
 };
 
 // The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,
@@ -65,10 +66,17 @@ public:
   // Contact forces f[i] on the vertices x[i] (as gathered) of the primitives i in `which`
   // (increasing), summed over all pairs and ranks; the other primitives have no force.
   virtual PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) = 0;
-  // The largest displacement of a vertex since the last Searched() (an upper bound will do),
-  // at the current state; Searched() takes the current state as the reference.
-  virtual PetscErrorCode MaxMove(PetscReal *move) = 0;
-  virtual PetscErrorCode Searched()               = 0;
+  // The largest ratio, over this rank's primitives, of a vertex's displacement since the last
+  // Searched() (an upper bound will do) to the primitive's search margin (the last Margins());
+  // the engine searches again when it exceeds 1 on some rank. Searched() takes the current
+  // state as the reference.
+  virtual PetscErrorCode MoveRatio(PetscReal *ratio) = 0;
+  virtual PetscErrorCode Searched()                  = 0;
+  // At each search, before Searched(): the margin m[i] >= half of every listed primitive, how far
+  // it may move before the next search (its box is grown by it). `evaluations` since the last
+  // search (0: the first). Half the buffer for all is always correct; a body seen moving fast
+  // gets a larger one, so that it alone does not force a search at every evaluation.
+  virtual PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) = 0;
   // The body kind, for messages ("rigid", "mesh").
   virtual const char *KindName() const = 0;
   // May two primitives of one body touch (self-contact, when switched on)?
@@ -157,6 +165,7 @@ private:
   PetscSF                       sf_ = nullptr; // one Vertices record per primitive
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
+  PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };
 } // namespace fdem::contact

@@ -78,15 +78,24 @@ PetscErrorCode MeshAdapter::Scatter(const std::vector<int> &which, const Vertice
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshAdapter::MaxMove(PetscReal *move) {
+// Every cell gets half the buffer (a fast node of a mesh is rare; its cells are small).
+PetscErrorCode MeshAdapter::Margins(PetscReal half, PetscInt, PetscReal *m) {
   PetscFunctionBegin;
-  *move = 0;
+  half_ = half;
+  for (size_t t = 0; t < conn_.size(); ++t) m[t] = half;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshAdapter::MoveRatio(PetscReal *ratio) {
+  PetscReal move = 0;
+  PetscFunctionBegin;
   for (size_t t = 0; t < conn_.size(); ++t)
     for (int q = 0; q < 4; ++q) {
       const PetscInt a = 3 * conn_[t][q];
       const Vec3    &r = ref_[t][q];
-      *move            = std::max(*move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
+      move             = std::max(move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
     }
+  *ratio = half_ > 0 ? move / half_ : move > 0 ? PETSC_MAX_REAL : 0;
   PetscFunctionReturn(0);
 }
 

@@ -25,8 +25,9 @@ public:
   PetscErrorCode List(std::vector<Primitive> &prims) override;
   PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
   PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
-  PetscErrorCode MaxMove(PetscReal *move) override;
+  PetscErrorCode MoveRatio(PetscReal *ratio) override;
   PetscErrorCode Searched() override;
+  PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) override;
   const char    *KindName() const override { return "mesh"; }
   bool           CanSelfContact() const override { return true; }
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
@@ -46,6 +47,7 @@ private:
   std::vector<char>                    faces_; // bit o: the face opposite node o is on the boundary
   std::vector<PetscReal>               body_force_;
   std::vector<Vertices>                ref_; // vertex positions at the last search
+  PetscReal                            half_ = 0; // the margin of every cell (Margins)
   const PetscScalar                   *xl_ = nullptr, *vl_ = nullptr;
   PetscScalar                         *fl_ = nullptr;
   bool                                 require_v_ = true;

@@ -99,19 +99,38 @@ PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertic
   PetscFunctionReturn(0);
 }
 
-// |x - x0| + r |R - R0|_F bounds the displacement of every skin node (|R - R0|_2 <= |R - R0|_F).
-PetscErrorCode RigidAdapter::MaxMove(PetscReal *move) {
-  const RigidLayout L(rb_->n);
+// |x - x0| + r |R - R0|_F bounds the displacement of every skin node of listed body j since
+// the last search (|R - R0|_2 <= |R - R0|_F).
+PetscReal RigidAdapter::Move(size_t j) const {
+  const RigidLayout  L(rb_->n);
+  const PetscScalar *x = L.x(q_, body_[j]), *R = L.R(q_, body_[j]);
+  const PetscReal   *r  = &ref_[12 * j];
+  PetscReal          dx = 0, dR = 0;
+  for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
+  for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
+  return std::sqrt(dx) + radius_[j] * std::sqrt(dR);
+}
+
+PetscErrorCode RigidAdapter::MoveRatio(PetscReal *ratio) {
   PetscFunctionBegin;
-  *move = 0;
-  for (size_t j = 0; j < body_.size(); ++j) {
-    const PetscScalar *x = L.x(q_, body_[j]), *R = L.R(q_, body_[j]);
-    const PetscReal   *r = &ref_[12 * j];
-    PetscReal          dx = 0, dR = 0;
-    for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
-    for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
-    *move = std::max(*move, std::sqrt(dx) + radius_[j] * std::sqrt(dR));
+  *ratio = 0;
+  for (size_t j = 0; j < body_.size() && j < margin_.size(); ++j) {
+    const PetscReal d = Move(j);
+    *ratio            = std::max(*ratio, margin_[j] > 0 ? d / margin_[j] : d > 0 ? PETSC_MAX_REAL : 0);
   }
+  PetscFunctionReturn(0);
+}
+
+// A body that moved d in the n evaluations since the last search is given room for
+// kLookahead more at that pace: half + kLookahead d / n (half: never less, and at the first search).
+PetscErrorCode RigidAdapter::Margins(PetscReal half, PetscInt evaluations, PetscReal *m) {
+  constexpr PetscReal kLookahead = 10;
+  PetscFunctionBegin;
+  const bool seen = evaluations > 0 && ref_.size() == 12 * body_.size();
+  margin_.assign(body_.size(), half);
+  if (seen)
+    for (size_t j = 0; j < body_.size(); ++j) margin_[j] = half + kLookahead * Move(j) / (PetscReal)evaluations;
+  for (size_t i = 0; i < prim_body_.size(); ++i) m[i] = margin_[prim_body_[i]];
   PetscFunctionReturn(0);
 }
 

@@ -21,8 +21,9 @@ public:
   PetscErrorCode List(std::vector<Primitive> &prims) override;
   PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
   PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
-  PetscErrorCode MaxMove(PetscReal *move) override;
+  PetscErrorCode MoveRatio(PetscReal *ratio) override;
   PetscErrorCode Searched() override;
+  PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) override;
   const char    *KindName() const override { return "rigid"; }
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
@@ -36,6 +37,8 @@ private:
   PetscScalar          *fm_ = nullptr;
   std::vector<PetscInt>  body_, skin_;  // per listed body (with a skin): local index, skin
   std::vector<PetscReal> radius_, ref_; // per listed body: bounding radius, [x | R] at the last search
+  std::vector<PetscReal> margin_;       // per listed body: its search margin (Margins)
+  PetscReal              Move(size_t j) const;
   std::vector<int>       prim_body_;    // per primitive: its listed body
   std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron
   std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
