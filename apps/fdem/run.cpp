@@ -263,6 +263,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscInt  step = 0;
   if (o.restart[0]) {
     PetscCall(SimReadCheckpoint(s, o.restart, &t, &step, &dt_restart));
+    // the partition a straight run has after the checkpoint (it migrates there, to slabs balanced on the bodies' places)
+    if (SimNeedsMigration(s)) PetscCall(SimMigrate(s));
     PetscCall(PetscPrintf(comm, "restart from %s: t = %.6g s, step %" PetscInt_FMT "\n", o.restart, (double)t, step));
   }
   PetscCall(SimSetUpTS(s, scheme, t, step));

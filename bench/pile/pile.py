@@ -36,6 +36,7 @@ p.add_argument("--settle", type=float, default=1.5, help="simulated seconds of s
 p.add_argument("--out", default="/tmp/fdem-pile")
 p.add_argument("-n", type=int, default=1, help="MPI ranks (default 1)")
 p.add_argument("--skip-base", action="store_true", help="time the new build only")
+p.add_argument("--scaling", action="store_true", help="instead: the new build on 1 and 2 ranks, S2 steps, speed-up from the stepping time (wall, and CPU of the busiest rank) of the driver's done line")
 a = p.parse_args()
 dt = 4.0e-4
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
@@ -68,6 +69,36 @@ def line(out, key):
     return next((l for l in out.splitlines() if l.startswith(key)), "")
 
 
+def stepping(out):
+    """(wall, busiest-rank CPU) seconds of the stepping, from the driver's done line."""
+    import re
+    m = re.search(r"stepping ([0-9.]+) s:.*stepping CPU time ([0-9.]+) s", line(out, "done:"))
+    return float(m.group(1)), float(m.group(2))
+
+
+if a.scaling:
+    for n in [int(s) for s in a.sizes.split(",")]:
+        d = os.path.join(a.out, str(n))
+        ck = os.path.join(d, "settle", "checkpoint.h5")
+        if not os.path.exists(ck):
+            sys.exit(f"pile.py: settle the pile of {n} first (run without --scaling): {ck} is missing")
+        scene(n, a.settle + a.s2 * dt, os.path.join(d, f"run{a.s2}.yaml"))
+        t = {1: [], 2: []}
+        for r in range(a.rounds):
+            for ranks in (1, 2):
+                a.n = ranks
+                _, out = run([a.new_fdem, os.path.join(d, f"run{a.s2}.yaml"), "-restart", ck, "-fdem_output", os.path.join(d, f"np{ranks}"), "-fdem_progress", "0"], os.path.join(d, f"np{ranks}.log"))
+                t[ranks].append(stepping(out))
+                if r == 0:
+                    print(f"N = {n}, {ranks} rank(s): {line(out, 'contact')}", flush=True)
+        med = {k: (sorted(x[0] for x in v)[len(v) // 2], sorted(x[1] for x in v)[len(v) // 2]) for k, v in t.items()}
+        B1 = bodies(glob.glob(os.path.join(d, "np1", "**", "bodies.csv"), recursive=True)[0])
+        B2 = bodies(glob.glob(os.path.join(d, "np2", "**", "bodies.csv"), recursive=True)[0])
+        dx = max(math.dist(u[0:3], v[0:3]) for u, v in zip(B1, B2))
+        print(f"N = {n}, {a.s2} steps: 1 rank {med[1][0]:.2f} s wall, {med[1][1]:.2f} s CPU; 2 ranks {med[2][0]:.2f} s wall, {med[2][1]:.2f} s CPU on the busiest rank; "
+              f"speed-up (CPU, busiest rank) {med[1][1] / med[2][1]:.2f}x, (wall) {med[1][0] / med[2][0]:.2f}x; 1 vs 2 ranks: max |dx| {dx:.3g} m", flush=True)
+    sys.exit(0)
+
 results = []
 for n in [int(s) for s in a.sizes.split(",")]:
     d = os.path.join(a.out, str(n))
@@ -96,7 +127,7 @@ for n in [int(s) for s in a.sizes.split(",")]:
     row = {"n": n}
     for b in per:
         med = per[b][len(per[b]) // 2]
-        row[b] = nb / med / a.n  # body-steps per second per core
+        row[b] = nb / med  # body-steps per CPU second = per second per busy core
         print(f"N = {n}, {b}: CPU per step {med * 1e3:.3f} ms (rounds {', '.join(f'{x * 1e3:.3f}' for x in per[b])}) -> {row[b]:.4g} body-steps/s/core", flush=True)
     if "base" in per:
         row["speedup"] = row["new"] / row["base"]

@@ -17,11 +17,12 @@ PetscClassId  CLASSID = 0;
 PetscLogEvent EV_LIST = 0, EV_GHOST = 0, EV_SEARCH = 0, EV_FORCE = 0;
 
 // A rank's region: NGROUP groups of NBOX boxes each, from a k-d split of the bounding boxes of
-// its primitives (group 0: the primitives up to twice the median size; group 1: the larger ones,
-// such as a wall's, which would otherwise swell the small boxes); BW numbers per box: lo(3), -hi(3)
-// (empty: +inf), the body and the kind of all its primitives (-1: several), the bit mask of the
-// kinds in it and whether it holds a primitive of a body that moves.
-constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, NGROUP = 2, BW = 10;
+// its primitives (group 0: those of moving bodies up to twice the median size; group 1: the
+// larger ones, which would otherwise swell the small boxes; group 2: those of fixed bodies, such
+// as a wall's); BW numbers per box: lo(3), -hi(3) (empty: +inf), the body and the kind of all its
+// primitives (-1: several), the bit mask of the kinds in it and whether it holds a primitive of a
+// body that moves.
+constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, NGROUP = 3, BW = 10;
 
 // Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by its margin: until the next
 // search (no vertex moved more than its margin) the tetrahedron stays inside it.
@@ -236,7 +237,7 @@ PetscErrorCode Engine::Search() {
     if (nl) std::nth_element(med.begin(), med.begin() + nl / 2, med.end());
     const double     large = nl ? 2 * med[nl / 2] : 0;
     std::vector<int> idx[NGROUP];
-    for (int i = 0; i < nl; ++i) idx[size[i] > large ? 1 : 0].push_back(i);
+    for (int i = 0; i < nl; ++i) idx[prim_[i].fixed ? 2 : size[i] > large ? 1 : 0].push_back(i);
     auto mid = [&](int i, int k) { return boxes[6 * i + k] + boxes[6 * i + 3 + k]; };
     for (int g = 0; g < NGROUP; ++g) {
       std::function<void(int, int, int, int)> split = [&](int b, int e, int depth, int slot) {

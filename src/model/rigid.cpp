@@ -45,7 +45,8 @@ fdem::kernels::FreeRotation Kind(FDEMRotationType t) {
 
 PetscMPIInt OwnerRank(FDEMRigid rb, const PetscReal x[3]) {
   if (rb->axis < 0 || rb->size == 1) return 0;
-  const int    a = rb->axis;
+  const int a = rb->axis;
+  if (!rb->cuts.empty()) return (PetscMPIInt)(std::upper_bound(rb->cuts.begin(), rb->cuts.end(), x[a]) - rb->cuts.begin());
   const double f = (x[a] - rb->lo[a]) / (rb->hi[a] - rb->lo[a]);
   long         r = (long)std::floor(f * rb->size);
   return (PetscMPIInt)std::min<long>(std::max<long>(r, 0), rb->size - 1);
@@ -502,11 +503,58 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
   if (rb->moved) rb->meter.Sample(t, rb->power + extra);
 }
 
+// Slabs with equal numbers of moving bodies: along the axis of the largest spread of their
+// centres, the boundaries are the quantiles of their coordinates (fixed bodies -- walls,
+// floors -- cost little: their pairs are computed by the moving body's owner). Every rank
+// computes the same cuts from the same gathered centres. Fewer moving bodies than ranks:
+// equal slabs of the domain.
+static PetscErrorCode BalanceSlabs(FDEMRigid rb) {
+  PetscInt        n, *fx;
+  const PetscReal *x;
+  std::vector<PetscReal> mine;
+  PetscFunctionBegin;
+  if (rb->axis < 0) PetscFunctionReturn(0);
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscCall(DMSwarmGetField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
+  for (PetscInt b = 0; b < n; ++b)
+    if (!fx[b]) mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
+  PetscCall(DMSwarmRestoreField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
+  PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscMPIInt              cnt = (PetscMPIInt)mine.size();
+  std::vector<PetscMPIInt> cnts(rb->size), displs(rb->size + 1, 0);
+  PetscCallMPI(MPI_Allgather(&cnt, 1, MPI_INT, cnts.data(), 1, MPI_INT, rb->comm));
+  for (int r = 0; r < rb->size; ++r) displs[r + 1] = displs[r] + cnts[r];
+  std::vector<PetscReal> all(displs[rb->size]);
+  PetscCallMPI(MPI_Allgatherv(mine.data(), cnt, MPIU_REAL, all.data(), cnts.data(), displs.data(), MPIU_REAL, rb->comm));
+  const size_t m = all.size() / 3;
+  rb->cuts.clear();
+  if (m < (size_t)rb->size) PetscFunctionReturn(0);
+  // the spread of each axis between its 10% and 90% quantiles (a few bodies thrown far do not choose it)
+  std::vector<PetscReal> c[3];
+  int                    a = 0;
+  PetscReal              spread[3];
+  for (int k = 0; k < 3; ++k) {
+    c[k].resize(m);
+    for (size_t i = 0; i < m; ++i) c[k][i] = all[3 * i + k];
+    std::sort(c[k].begin(), c[k].end());
+    spread[k] = c[k][(9 * (m - 1)) / 10] - c[k][(m - 1) / 10];
+    if (spread[k] > spread[a]) a = k;
+  }
+  rb->axis = a;
+  for (int r = 1; r < rb->size; ++r) {
+    const size_t i = r * m / rb->size; // bodies [0, i) go below the cut
+    rb->cuts.push_back(0.5 * (c[a][i - 1] + c[a][i]));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscInt  n, *rk;
   PetscReal *x;
   PetscFunctionBegin;
   if (rb->size == 1) PetscFunctionReturn(0);
+  PetscCall(BalanceSlabs(rb));
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
   PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmGetField(rb->sw, DMSwarmField_rank, nullptr, nullptr, (void **)&rk));

@@ -71,6 +71,7 @@ struct _n_FDEMRigid {
   PetscReal         g[3] = {0, 0, 0};
   PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int               axis = -1; // slab axis; -1: rank 0 holds everything
+  std::vector<PetscReal> cuts;  // size - 1 slab boundaries along axis (FDEMRigidMigrate); empty: equal slabs of [lo, hi]
   PetscInt          next_id = 0;
   std::vector<Skin> skins; // replicated: every rank adds every body
   // while a TS runs
