@@ -430,9 +430,21 @@ PetscErrorCode Engine::Evaluate() {
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     fdem::kernels::TetPairContact pc;
     std::array<Vec3, 4>           fa, fb, da, db;
+    // each tetrahedron's frame once per evaluation, made when a pair first needs it
+    frames_.resize(nl_ + ng_);
+    made_.assign(nl_ + ng_, 0);
+    auto frame = [&](int i, const char *name) -> const fdem::kernels::TetFrame & {
+      if (!made_[i]) {
+        fdem::kernels::MakeTetFrame(X(i), name, frames_[i]);
+        made_[i] = 1;
+      }
+      return frames_[i];
+    };
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!BoxesMeet(a, b) || !fdem::kernels::PotentialContactForce(a, b, pen, pen, pc)) continue;
+      if (!BoxesMeet(a, b)) continue;
+      const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
+      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pc)) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
       if (!checked_initial_) {
@@ -443,7 +455,7 @@ PetscErrorCode Engine::Evaluate() {
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
-        fdem::kernels::ContactDampingFriction(a, b, V(p[0]), V(p[1]), pc, par_.diss, da, db);
+        fdem::kernels::ContactDampingFriction(ta, tb, V(p[0]), V(p[1]), pc, par_.diss, da, db);
         for (int k = 0; k < 4; ++k) {
           fa[k] += da[k];
           fb[k] += db[k];

@@ -163,6 +163,8 @@ private:
   std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
   std::vector<std::vector<int>> touch_; // per adapter: its primitives in a pair here or ghosts elsewhere (increasing)
   PetscSF                       sf_ = nullptr; // one Vertices record per primitive
+  std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
+  std::vector<char>             made_;           // frames_[i] made at this evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search

@@ -18,14 +18,7 @@ constexpr double kSnap = 1e-13;
 // The three vertices of the face opposite vertex k (orientation is fixed later).
 constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
-// A tetrahedron's barycentric coordinates as affine functions:
-// lambda_k(p) = g[k].(p - o) + (k == 0).
-struct Frame {
-  Vec3 o;
-  Vec3 g[4];
-  Vec3 centroid;
-  double vol = 0; // |V|
-};
+using Frame = TetFrame;
 
 void MakeFrame(const Tet4 &t, const char *name, Frame &f) {
   const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0], e3 = t[3] - t[0];
@@ -95,14 +88,12 @@ struct PassResult {
 
 // One direction: the faces of contactor c inside target t, pushed by t's
 // potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
-void Pass(const Tet4 &c, const Frame &tf, double eps, std::array<Vec3, 4> &fc,
+// lam_c[v][k]: lambda_k of t at contactor vertex v (Barycentric, before snapping).
+void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
-  double lam[4][4]; // lam[v][k]: lambda_k of t at contactor vertex v
-  for (int v = 0; v < 4; ++v) {
-    Barycentric(tf, c[v], lam[v]);
-    for (int k = 0; k < 4; ++k)
-      if (std::fabs(lam[v][k]) < kSnap) lam[v][k] = 0.0;
-  }
+  double lam[4][4];
+  for (int v = 0; v < 4; ++v)
+    for (int k = 0; k < 4; ++k) lam[v][k] = std::fabs(lam_c[v][k]) < kSnap ? 0.0 : lam_c[v][k];
   // A face plane of t with all of c strictly outside: no overlap at all.
   for (int k = 0; k < 4; ++k)
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
@@ -214,31 +205,41 @@ void CheckPenalty(double p, const char *name) {
 // True when every vertex of t lies strictly outside one face plane of the tetrahedron of f
 // (a barycentric coordinate negative at all four): the two convex tetrahedra are then
 // disjoint and every integral of the pair is zero. Most candidate pairs of a search end here.
-static bool SeparatedByFace(const Frame &f, const Tet4 &t) {
-  double lam[4][4];
+// lam[v]: the barycentric coordinates of t's vertex v in f (kept for Pass).
+static bool SeparatedByFace(const Frame &f, const Tet4 &t, double lam[4][4]) {
   for (int v = 0; v < 4; ++v) Barycentric(f, t[v], lam[v]);
   for (int k = 0; k < 4; ++k)
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return true;
   return false;
 }
 
+void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, name, f); }
+
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out) {
+  Frame fa, fb;
   CheckPenalty(penalty_a, "a");
   CheckPenalty(penalty_b, "b");
-  Frame fa, fb;
   MakeFrame(a, "a", fa);
   MakeFrame(b, "b", fb);
+  return PotentialContactForce(a, fa, b, fb, penalty_a, penalty_b, out);
+}
+
+bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
+                           double penalty_b, TetPairContact &out) {
+  CheckPenalty(penalty_a, "a");
+  CheckPenalty(penalty_b, "b");
   for (auto &v : out.fa) v = Vec3{};
   for (auto &v : out.fb) v = Vec3{};
-  if (SeparatedByFace(fa, b) || SeparatedByFace(fb, a)) {
+  double b_in_a[4][4], a_in_b[4][4];
+  if (SeparatedByFace(fa, b, b_in_a) || SeparatedByFace(fb, a, a_in_b)) {
     out.energy = out.area = out.weight = 0;
     out.point = Vec3{};
     out.overlap = false;
     return false;
   }
   PassResult ab, ba;
-  Pass(a, fb, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
-  Pass(b, fa, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
+  Pass(a, fb, a_in_b, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
+  Pass(b, fa, b_in_a, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
   // Base-face terms of the divergence-theorem integrals (doc/contact.md):
   // sub-tetrahedron o of t contributes 1/4 h_o (eps/12) |face_o inside c|,
   // with h_o |face_o| = 3 |V_t| / 4.
@@ -266,6 +267,17 @@ bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, doubl
 void ContactDampingFriction(const Tet4 &a, const Tet4 &b, const std::array<Vec3, 4> &va,
                             const std::array<Vec3, 4> &vb, const TetPairContact &contact,
                             const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb) {
+  Frame ta, tb;
+  if (contact.overlap && contact.weight > 0) {
+    MakeFrame(a, "a", ta);
+    MakeFrame(b, "b", tb);
+  }
+  ContactDampingFriction(ta, tb, va, vb, contact, param, fa, fb);
+}
+
+void ContactDampingFriction(const TetFrame &ta, const TetFrame &tb, const std::array<Vec3, 4> &va,
+                            const std::array<Vec3, 4> &vb, const TetPairContact &contact,
+                            const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb) {
   if (!(param.normal_damping >= 0) || !(param.friction >= 0) || !(param.tangential_viscosity >= 0) ||
       !std::isfinite(param.normal_damping) || !std::isfinite(param.friction) ||
       !std::isfinite(param.tangential_viscosity))
@@ -277,9 +289,6 @@ void ContactDampingFriction(const Tet4 &a, const Tet4 &b, const std::array<Vec3,
   const double Fmag = norm(F);
   if (!(Fmag > 0)) return;
   const Vec3 n = (1.0 / Fmag) * F;
-  Frame ta, tb;
-  MakeFrame(a, "a", ta);
-  MakeFrame(b, "b", tb);
   double la[4], lb[4];
   Barycentric(ta, contact.point, la);
   Barycentric(tb, contact.point, lb);

@@ -34,6 +34,23 @@ struct TetPairContact {
 // tetrahedra overlap in a set of positive volume (then energy > 0).
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out);
 
+// A tetrahedron's barycentric coordinates as affine functions, lambda_k(p) =
+// g[k].(p - o) + (k == 0), its centroid and volume: what the pair kernel needs
+// of each tetrahedron. A caller evaluating many pairs builds one per
+// tetrahedron (MakeTetFrame) instead of two per pair; the results are the same
+// to the bit. MakeTetFrame throws InputError for a degenerate or non-finite
+// tetrahedron (`name` goes into the message).
+struct TetFrame {
+  Vec3 o;
+  Vec3 g[4];
+  Vec3 centroid;
+  double vol = 0; // |V|
+};
+void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f);
+// As above, with the frames of a and b given (made by MakeTetFrame from a and b).
+bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
+                           double penalty_b, TetPairContact &out);
+
 // Nodal forces only (overwritten, not accumulated).
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, std::array<Vec3, 4> &fa,
                            std::array<Vec3, 4> &fb);
@@ -56,6 +73,10 @@ struct ContactDissipation {
 // tetrahedron's linear shape functions. Overwrites fa, fb (zero when there is
 // no contact or no defined normal). Throws InputError on negative parameters.
 void ContactDampingFriction(const Tet4 &a, const Tet4 &b, const std::array<Vec3, 4> &va,
+                            const std::array<Vec3, 4> &vb, const TetPairContact &contact,
+                            const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb);
+// As above, with the frames of a and b given.
+void ContactDampingFriction(const TetFrame &ta, const TetFrame &tb, const std::array<Vec3, 4> &va,
                             const std::array<Vec3, 4> &vb, const TetPairContact &contact,
                             const ContactDissipation &param, std::array<Vec3, 4> &fa, std::array<Vec3, 4> &fb);
 
