@@ -38,6 +38,33 @@ void Box(const Tet4 &T, double half_buffer, double b[6]) {
   }
 }
 
+// The four face planes of a tetrahedron, outward unit normal n and offset d (n.x = d on the
+// face): pl[4 k .. 4 k + 3] = (n, d) of the face opposite vertex k. A zero-area face gives NaN,
+// which no test below passes.
+void FacePlanes(const Tet4 &T, double pl[16]) {
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 &p = T[(k + 1) % 4], &q = T[(k + 2) % 4], &r = T[(k + 3) % 4];
+    Vec3        n = cross(q - p, r - p);
+    n             = (1.0 / norm(n)) * n;
+    if (dot(n, T[k] - p) > 0) n = -1.0 * n;
+    for (int d = 0; d < 3; ++d) pl[4 * k + d] = n[d];
+    pl[4 * k + 3] = dot(n, p);
+  }
+}
+
+// Is every vertex of b farther than gap beyond one face plane of a? Then a and b stay apart as
+// long as a's vertices move less than m_a and b's less than m_b with m_a + m_b <= gap: a stays
+// within m_a of the plane's inner side, b beyond gap - m_b.
+bool BeyondAFace(const double pa[16], const Tet4 &b, double gap) {
+  for (int k = 0; k < 4; ++k) {
+    const double *n = pa + 4 * k;
+    bool          all = true;
+    for (int v = 0; v < 4 && all; ++v) all = n[0] * b[v][0] + n[1] * b[v][1] + n[2] * b[v][2] - n[3] > gap;
+    if (all) return true;
+  }
+  return false;
+}
+
 // Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
 bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
   for (int k = 0; k < 3; ++k) {
@@ -335,10 +362,20 @@ PetscErrorCode Engine::Search() {
       std::vector<std::pair<int, int>> tp;
       bs.Build(boxes.data(), N);
       bs.FindPairs(tp);
+      // face planes, made when a pair first needs them
+      std::vector<double> planes(16 * (size_t)N);
+      std::vector<char>   have(N, 0);
+      auto                plane = [&](int i) {
+        if (!have[i]) FacePlanes(X(i), &planes[16 * (size_t)i]), have[i] = 1;
+        return &planes[16 * (size_t)i];
+      };
       for (const auto &pr : tp) {
         int              a = pr.first, b = pr.second;
         const Primitive &A = P(a), &B = P(b);
         if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
+        // apart for as long as neither moves more than its margin: not a candidate
+        const double gap = A.margin + B.margin;
+        if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
           if (!(par_.self && adapters_[A.kind]->CanSelfContact())) continue;
           bool share = false;
