@@ -129,7 +129,9 @@ void SnCnDn(double u, double m, double mc, double &sn, double &cn, double &dn) {
     c[n + 1] = 0.5 * (a[n] - b);
     b = std::sqrt(a[n] * b);
     ++n;
-  } while (n < 38 && std::fabs(c[n]) > 1e-17 * a[n]);
+    // Stop once c_n is at the level of a_n's last bits: a_n and b_n may then stay one ulp
+    // apart for ever, and a tighter bound ran the loop to its end (2^38 u into sin).
+  } while (n < 38 && std::fabs(c[n]) > 4.5e-16 * a[n]);
   double phi = std::ldexp(a[n] * u, n);
   for (int k = n; k > 0; --k) phi = 0.5 * (phi + std::asin(c[k] / a[k] * std::sin(phi)));
   sn = std::sin(phi);
