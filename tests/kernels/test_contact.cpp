@@ -275,6 +275,37 @@ void ExpectZero(const Tet4 &a, const Tet4 &b, const char *what) {
 }
 } // namespace
 
+// Two tetrahedra crossing edge past edge: a's top edge runs along x at z = 0, b's
+// bottom edge along y at z = g. No face plane of either separates them for small
+// g > 0 (only the axis z = x cross y does), so the face-plane early exit does not
+// apply and the clipping decides: exactly zero while apart, overlap at g < 0 with
+// an energy growing as they close and the forces pushing them apart.
+TEST(PotentialContact, EdgePastEdge) {
+  const Tet4 a{Vec3{-1, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, -1}, Vec3{0, 1, -1}};
+  auto B = [](double g) { return Tet4{Vec3{0, -1, g}, Vec3{0, 1, g}, Vec3{-1, 0, 1 + g}, Vec3{1, 0, 1 + g}}; };
+  // no face plane separates them at g = 0.01 (coordinates by volume ratios, not the kernel's)
+  auto face_separates = [](const Tet4 &f, const Tet4 &t) {
+    double lam[4][4];
+    for (int v = 0; v < 4; ++v) Bary(f, t[v], lam[v]);
+    for (int k = 0; k < 4; ++k)
+      if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return true;
+    return false;
+  };
+  ASSERT_FALSE(face_separates(a, B(0.01)));
+  ASSERT_FALSE(face_separates(B(0.01), a));
+  for (double g : {0.2, 0.01, 1e-6}) ExpectZero(a, B(g), "edge past edge, apart");
+  double prev = 0;
+  for (double g : {-1e-3, -1e-2, -5e-2, -1e-1}) {
+    TetPairContact c;
+    EXPECT_TRUE(PotentialContactForce(a, B(g), 1e6, 1e6, c)) << "g = " << g;
+    EXPECT_GT(c.energy, prev) << "g = " << g;
+    prev = c.energy;
+    // a is pushed down, b up
+    EXPECT_LT(c.fa[0].z + c.fa[1].z + c.fa[2].z + c.fa[3].z, 0) << "g = " << g;
+    EXPECT_GT(c.fb[0].z + c.fb[1].z + c.fb[2].z + c.fb[3].z, 0) << "g = " << g;
+  }
+}
+
 TEST(PotentialContact, TouchingConfigurationsGiveZero) {
   const Tet4 a{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
   // Mesh neighbour across the face x+y+z=1 (shared face).
