@@ -1,5 +1,6 @@
 // Tetrahedral mesh utilities; see tetmesh.hpp.
 #include <fdem/kernels/tetmesh.hpp>
+#include <fdem/kernels/joint_mesh.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -178,29 +179,14 @@ std::vector<double> LumpedMasses(const TetMesh &mesh, const std::vector<double> 
 }
 
 SurfaceInfo SurfaceTets(const TetMesh &mesh) {
-  // Faces opposite node i, ordered so that (b-a)x(c-a) points out of a
-  // positively oriented tetrahedron.
-  static const int F[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  struct Face {
-    std::array<int, 3> key;
-    int tet, local;
-  };
-  std::vector<Face> faces;
-  faces.reserve(4 * mesh.tets.size());
-  for (int t = 0; t < static_cast<int>(mesh.tets.size()); ++t)
-    for (int f = 0; f < 4; ++f) {
-      std::array<int, 3> k{mesh.tets[t][F[f][0]], mesh.tets[t][F[f][1]], mesh.tets[t][F[f][2]]};
-      std::sort(k.begin(), k.end());
-      faces.push_back({k, t, f});
-    }
-  std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) { return a.key < b.key; });
+  const std::vector<TetFace> faces = SortedFaces(mesh.tets);
   SurfaceInfo s;
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
     if (j - i == 1) {
       const auto &n = mesh.tets[faces[i].tet];
-      const int *l = F[faces[i].local];
+      const int *l = kTetFace[faces[i].local];
       s.faces.push_back({n[l[0]], n[l[1]], n[l[2]]});
       s.face_tet.push_back(faces[i].tet);
       s.tets.push_back(faces[i].tet);

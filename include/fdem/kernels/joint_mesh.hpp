@@ -1,0 +1,50 @@
+// Fracturable meshes (doc/fracture.md): every tetrahedron of a fracturable
+// body gets its own four nodes, and every face that two of its tetrahedra
+// shared becomes a joint, the pair of coincident triangles that the cohesive
+// law (joint.hpp) holds together. Pure C++; no PETSc.
+#pragma once
+#include <array>
+#include <vector>
+
+#include <fdem/kernels/tetmesh.hpp>
+
+namespace fdem::kernels {
+
+// One joint: triangle a of tetrahedron tet_a, ordered so that its right-hand
+// normal (a1-a0)x(a2-a0) points out of tet_a (towards tet_b), and triangle b
+// of tet_b with node b[i] at the position of a[i] (the argument order of
+// JointElementForces). Node ids are those of the split mesh.
+struct JointFace {
+  int tet_a = -1, tet_b = -1;
+  std::array<int, 3> a{}, b{};
+};
+
+struct SplitMesh {
+  TetMesh mesh;                 // the split mesh: same tetrahedra in the same order, bodies and names
+  std::vector<int> parent;      // per split node: the node of the input mesh it was copied from
+  std::vector<JointFace> joints; // in the order of the sorted face keys (deterministic)
+};
+
+// Splits the tetrahedra of the bodies with split_body[b] != 0 (one entry per
+// body of the mesh): each gets four new nodes, copies of its own; every face
+// shared by two of them (same body) becomes a joint. Nodes of other bodies
+// are kept, renumbered in order of first use, and their tetrahedra are
+// unchanged. The input must be a valid oriented mesh (ParseGmsh or
+// OrientTets); throws InputError when split_body has the wrong size.
+SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body);
+
+// The faces of a mesh, each once with the tetrahedra that hold it: for the
+// face k of tetrahedron t (the face opposite node k, ordered so that its
+// right-hand normal points out of t), FaceTets lists (t, k) pairs grouped by
+// face. Used by SurfaceTets (faces with one tetrahedron) and SplitForJoints
+// (faces with two).
+struct TetFace {
+  std::array<int, 3> key; // the sorted node ids
+  int tet, local;         // the tetrahedron and the node opposite the face
+};
+// All 4 n faces sorted by key, so that the copies of a face are adjacent.
+std::vector<TetFace> SortedFaces(const std::vector<std::array<int, 4>> &tets);
+// The face opposite node k of a tetrahedron, outward for a positively oriented one.
+inline constexpr int kTetFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+} // namespace fdem::kernels
