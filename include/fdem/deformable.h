@@ -75,6 +75,18 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBeam(FDEMDeformable dfm, PetscR
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm, PetscReal radius, PetscReal height, PetscInt n_radial, PetscInt n_axial);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, const char *path);
 
+/* Fracture (doc/fracture.md): the bodies of `material` become fracturable. At set-up
+   each of their tetrahedra gets its own four nodes and every face two of them shared
+   becomes a joint held by the cohesive law: tensile strength f_t (Pa), cohesion c (Pa),
+   friction angle (degrees), fracture energies G_I and G_II (J/m^2) and the joint penalty
+   (Pa). The split renumbers the nodes of those bodies: fix or move their nodes by region
+   (FixNodesInBox), not by input id. Joints that straddle ranks are computed by the rank
+   of one side. Not yet: broken joints as contact surfaces, fragments, joint energy in
+   GetEnergy, joint state in checkpoints. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
+/* After set-up: the number of joints, of joints broken at all three points, and the
+   largest damage reached (collective). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
 /* Force terms chain: each added function adds its nodal forces to floc at every force
    evaluation, in the order added (a user's load, contact, ...); none replaces another.

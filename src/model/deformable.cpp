@@ -51,6 +51,7 @@ PetscErrorCode FDEMDeformableDestroy(FDEMDeformable *dp) {
   FDEMDeformable d = *dp;
   for (Vec *w : {&d->x, &d->v, &d->X, &d->m, &d->minv, &d->xloc, &d->vloc, &d->floc, &d->gwork}) PetscCall(VecDestroy(w));
   PetscCall(DMDestroy(&d->dm));
+  PetscCall(DestroyJoints(d));
   delete d;
   *dp = nullptr;
   PetscFunctionReturn(0);

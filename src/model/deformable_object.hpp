@@ -6,6 +6,7 @@
 //   deformable_assembly.cpp    internal + external forces, a = f/m + g, the TS right-hand sides
 //   deformable_diagnostics.cpp stress, energy, momentum, node state, smallest det F
 //   deformable_output.cpp      HDF5 + XDMF output
+//   deformable_joints.cpp      fracture joints: split meshes, joint forces across ranks
 // Other layers use src/model/deformable_impl.hpp, never this file.
 //
 // Layout after FDEMDeformableSetUp, on each rank:
@@ -21,6 +22,8 @@
 #include "work_meter.hpp"
 #include <fdem/deformable.h>
 #include <fdem/kernels/cst.hpp>
+#include <fdem/kernels/joint.hpp>
+#include <fdem/kernels/joint_mesh.hpp>
 #include <fdem/kernels/tetmesh.hpp>
 
 #include <map>
@@ -70,6 +73,17 @@ struct _n_FDEMDeformable {
   Vec                        xloc = nullptr, vloc = nullptr, floc = nullptr, gwork = nullptr;
   TS                         ts = nullptr; // the TS of FDEMDeformableSetUpTS (not referenced)
   std::vector<fdem::model::deformable::OutputRecord> outputs;
+  // fracture joints (deformable_joints.cpp)
+  std::map<std::string, fdem::kernels::JointMaterial> fracture; // by material name: its bodies are fracturable
+  std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
+  std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
+  std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
+  PetscInt                                njoints_global = 0;
+  std::vector<std::array<int, 3>>         jnode_a;        // this rank's joints: local nodes of triangle a
+  std::vector<fdem::kernels::JointLaw>    jlaw;           // their laws
+  std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
+  PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
+  std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
 };
 
 namespace fdem::model::deformable {
@@ -87,6 +101,17 @@ void ValidateInput(FDEMDeformable d, std::vector<int> &material_of_body);
 // velocities vo (may be null): internal forces of the local cells plus the
 // external-force hook; collective inversion check (deformable_assembly.cpp).
 PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *fo);
+
+// Fracture joints (deformable_joints.cpp). Rank 0, after ValidateInput: splits
+// the bodies of fracturable materials (d->mesh becomes the split mesh) and makes
+// each joint's law; throws InputError naming the material. Collective, after
+// BuildLocal: hands each joint to the rank of its tetrahedron a and builds the
+// SF that brings triangle b's nodes to it.
+void SplitFracturable(FDEMDeformable d, const std::vector<int> &material_of_body);
+PetscErrorCode SetUpJoints(FDEMDeformable d);
+// Adds the joint forces at local positions xl into the local forces fl (collective).
+PetscErrorCode AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl);
+PetscErrorCode DestroyJoints(FDEMDeformable d);
 
 // det F of element el at local positions x.
 inline double ElementJ(const fdem::kernels::TetElement &el, const double *x) {

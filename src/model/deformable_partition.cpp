@@ -29,7 +29,9 @@ idx_t Weight(FDEMDeformable d, int mat) { return fdem::kernels::MaterialModels()
 // Rank 0: one part per rank for every element (throws if METIS fails).
 void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vector<PetscInt> &part) {
   const auto &M  = d->mesh;
-  const int   nn = (int)M.nodes.size();
+  // a split mesh is partitioned as the mesh it came from (its tetrahedra share no node)
+  const auto &P  = d->split_parent;
+  const int   nn = P.empty() ? (int)M.nodes.size() : 1 + *std::max_element(P.begin(), P.end());
   const idx_t ne = (idx_t)M.tets.size();
   part.assign(ne, 0);
   if (d->size == 1) return;
@@ -40,7 +42,7 @@ void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vecto
   std::vector<idx_t> eptr(ne + 1), eind(4 * (size_t)ne), vwgt(ne), epart(ne), npart(nn);
   for (idx_t e = 0; e < ne; ++e) {
     eptr[e] = 4 * e;
-    for (int a = 0; a < 4; ++a) eind[4 * (size_t)e + a] = M.tets[e][a];
+    for (int a = 0; a < 4; ++a) eind[4 * (size_t)e + a] = P.empty() ? M.tets[e][a] : P[M.tets[e][a]];
     vwgt[e] = Weight(d, mat_of_body[M.body[e]]);
   }
   eptr[ne] = 4 * ne;
@@ -217,10 +219,11 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
     d->comm,
     [&]() -> PetscErrorCode {
       if (d->rank != 0) return 0;
+      ValidateInput(d, mob);
+      SplitFracturable(d, mob); // fracturable bodies: their own nodes per tetrahedron, joints
       dims[0] = (PetscInt)d->mesh.tets.size();
       dims[1] = (PetscInt)d->mesh.nodes.size();
       dims[2] = (PetscInt)d->mesh.NumBodies();
-      ValidateInput(d, mob);
       Partition(d, mob, part);
       return 0;
     },
@@ -298,6 +301,8 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   if (d->rank == 0) d->mesh = fdem::kernels::TetMesh(); // the distributed DM holds it now
   d->has_mesh = false;
   PetscCall(BuildLocal(d, orig, cellbody, dims[0]));
+  d->split_parent.clear();
+  PetscCall(SetUpJoints(d));
   d->setup = true;
   if (d->view) {
     PetscReal w = 0;

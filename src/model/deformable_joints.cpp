@@ -1,0 +1,220 @@
+// Deformable bodies, fracture joints (doc/fracture.md): the bodies of a
+// fracturable material are split at set-up (every tetrahedron its own nodes,
+// a joint on every face two of them shared); each joint is computed by the
+// rank that holds its tetrahedron a, which gets the coordinates of triangle
+// b's nodes through one PetscSF and returns their forces through it.
+#include "../util/guard.hpp"
+#include "deformable_impl.hpp"
+#include "deformable_object.hpp"
+
+#include <fdem/kernels/error.hpp>
+#include <petscsf.h>
+
+#include <cmath>
+#include <string>
+
+using namespace fdem::model::deformable;
+using fdem::kernels::JointLaw;
+using fdem::kernels::norm;
+
+static_assert(sizeof(JointLaw) == 10 * sizeof(double), "JointLaw is sent as 10 doubles");
+
+void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
+  d->split_parent.clear();
+  d->joints_input.clear();
+  d->laws_input.clear();
+  if (d->fracture.empty()) return;
+  std::vector<char> split(mob.size(), 0);
+  bool              any = false;
+  for (std::size_t b = 0; b < mob.size(); ++b) any |= (split[b] = d->fracture.count(d->materials[mob[b]].name) > 0);
+  if (!any) return;
+  fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split);
+  d->laws_input.reserve(s.joints.size());
+  for (const auto &j : s.joints) {
+    const auto &x = s.mesh.nodes;
+    // the element size of the law: the mean edge of the joint's triangle
+    const double h   = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
+    const int    b   = s.mesh.body[j.tet_a];
+    const auto  &mat = d->fracture.at(d->materials[mob[b]].name);
+    try {
+      d->laws_input.push_back(fdem::kernels::MakeJointLaw(mat, h));
+    } catch (const fdem::kernels::InputError &e) {
+      throw fdem::kernels::InputError("body '" + s.mesh.body_names[b] + "', the joint between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
+    }
+  }
+  d->mesh         = std::move(s.mesh);
+  d->split_parent = std::move(s.parent);
+  d->joints_input = std::move(s.joints);
+}
+
+PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
+  PetscFunctionBegin;
+  PetscInt nj = d->rank == 0 ? (PetscInt)d->joints_input.size() : 0;
+  PetscCallMPI(MPI_Bcast(&nj, 1, MPIU_INT, 0, d->comm));
+  d->njoints_global = nj;
+  if (nj == 0) PetscFunctionReturn(0);
+  // where every node and cell went: (rank, local index) gathered on rank 0
+  const PetscMPIInt      size = d->size;
+  std::vector<PetscMPIInt> nn(size), nc(size), offn(size + 1, 0), offc(size + 1, 0);
+  PetscMPIInt            mine[2] = {(PetscMPIInt)d->nlocal, (PetscMPIInt)d->cell_gid.size()};
+  std::vector<PetscMPIInt> both(2 * size);
+  PetscCallMPI(MPI_Gather(mine, 2, MPI_INT, both.data(), 2, MPI_INT, 0, d->comm));
+  for (int r = 0; r < size; ++r) {
+    nn[r]       = both[2 * r];
+    nc[r]       = both[2 * r + 1];
+    offn[r + 1] = offn[r] + nn[r];
+    offc[r + 1] = offc[r] + nc[r];
+  }
+  std::vector<PetscInt> allnodes(d->rank == 0 ? offn[size] : 0), allcells(d->rank == 0 ? offc[size] : 0);
+  PetscCallMPI(MPI_Gatherv(d->node_gid.data(), mine[0], MPIU_INT, allnodes.data(), nn.data(), offn.data(), MPIU_INT, 0, d->comm));
+  PetscCallMPI(MPI_Gatherv(d->cell_gid.data(), mine[1], MPIU_INT, allcells.data(), nc.data(), offc.data(), MPIU_INT, 0, d->comm));
+  // rank 0: each joint's record (7 ints, 10 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 7, NR = 10;
+  std::vector<PetscInt>  ibuf;
+  std::vector<PetscReal> rbuf;
+  std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);
+  if (d->rank == 0) {
+    std::vector<PetscMPIInt> node_rank(d->nnodes_global, -1), cell_rank(d->ncells_global, -1);
+    std::vector<PetscInt>    node_lidx(d->nnodes_global, -1);
+    for (int r = 0; r < size; ++r) {
+      for (PetscMPIInt i = 0; i < nn[r]; ++i) {
+        node_rank[allnodes[offn[r] + i]] = r;
+        node_lidx[allnodes[offn[r] + i]] = i;
+      }
+      for (PetscMPIInt i = 0; i < nc[r]; ++i) cell_rank[allcells[offc[r] + i]] = r;
+    }
+    std::vector<int> dest(nj);
+    for (PetscInt j = 0; j < nj; ++j) cnt[dest[j] = cell_rank[d->joints_input[j].tet_a]]++;
+    for (int r = 0; r < size; ++r) {
+      icnt[r] = NI * cnt[r];
+      rcnt[r] = NR * cnt[r];
+      if (r) {
+        ioff[r] = ioff[r - 1] + icnt[r - 1];
+        roff[r] = roff[r - 1] + rcnt[r - 1];
+      }
+    }
+    ibuf.resize(NI * (size_t)nj);
+    rbuf.resize(NR * (size_t)nj);
+    std::vector<PetscMPIInt> at(size, 0);
+    for (PetscInt j = 0; j < nj; ++j) {
+      const auto  &J = d->joints_input[j];
+      const int    r = dest[j];
+      PetscInt    *I = &ibuf[ioff[r] + NI * (size_t)at[r]];
+      PetscReal   *R = &rbuf[roff[r] + NR * (size_t)at[r]];
+      ++at[r];
+      for (int i = 0; i < 3; ++i) {
+        PetscCheck(node_rank[J.a[i]] == r, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint %" PetscInt_FMT ": a node of triangle a is not on the rank of its tetrahedron", j);
+        I[i]     = node_lidx[J.a[i]];
+        I[4 + i] = node_lidx[J.b[i]];
+      }
+      I[3] = node_rank[J.b[0]];
+      const double *L = reinterpret_cast<const double *>(&d->laws_input[j]);
+      for (int k = 0; k < NR; ++k) R[k] = L[k];
+    }
+    d->joints_input.clear();
+    d->joints_input.shrink_to_fit();
+    d->laws_input.clear();
+    d->laws_input.shrink_to_fit();
+  }
+  PetscMPIInt mycnt;
+  PetscCallMPI(MPI_Scatter(cnt.data(), 1, MPI_INT, &mycnt, 1, MPI_INT, 0, d->comm));
+  std::vector<PetscInt>  imine(NI * (size_t)mycnt);
+  std::vector<PetscReal> rmine(NR * (size_t)mycnt);
+  PetscCallMPI(MPI_Scatterv(ibuf.data(), icnt.data(), ioff.data(), MPIU_INT, imine.data(), NI * mycnt, MPIU_INT, 0, d->comm));
+  PetscCallMPI(MPI_Scatterv(rbuf.data(), rcnt.data(), roff.data(), MPIU_REAL, rmine.data(), NR * mycnt, MPIU_REAL, 0, d->comm));
+  d->jnode_a.resize(mycnt);
+  d->jlaw.resize(mycnt);
+  d->jstate.assign(mycnt, {});
+  std::vector<PetscSFNode> remote(9 * (size_t)mycnt);
+  for (PetscMPIInt j = 0; j < mycnt; ++j) {
+    const PetscInt *I = &imine[NI * (size_t)j];
+    for (int i = 0; i < 3; ++i) {
+      d->jnode_a[j][i] = (int)I[i];
+      for (int k = 0; k < 3; ++k) {
+        remote[9 * (size_t)j + 3 * i + k].rank  = (PetscInt)I[3];
+        remote[9 * (size_t)j + 3 * i + k].index = 3 * I[4 + i] + k;
+      }
+    }
+    std::copy(&rmine[NR * (size_t)j], &rmine[NR * (size_t)j] + NR, reinterpret_cast<double *>(&d->jlaw[j]));
+  }
+  PetscCall(PetscSFCreate(d->comm, &d->jsf));
+  PetscCall(PetscSFSetGraph(d->jsf, 3 * d->nlocal, 9 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetUp(d->jsf));
+  d->jxb.assign(9 * (size_t)mycnt, 0);
+  d->jfb.assign(9 * (size_t)mycnt, 0);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl) {
+  PetscFunctionBegin;
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
+  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  const std::size_t nj = d->jnode_a.size();
+  for (std::size_t j = 0; j < nj; ++j) {
+    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
+        xb[i][k] = d->jxb[9 * j + 3 * i + k];
+      }
+    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        fl[3 * d->jnode_a[j][i] + k] += fa[i][k];
+        d->jfb[9 * j + 3 * i + k] = fb[i][k];
+      }
+  }
+  PetscCall(PetscSFReduceBegin(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
+  PetscCall(PetscSFReduceEnd(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::deformable::DestroyJoints(FDEMDeformable d) {
+  PetscFunctionBegin;
+  PetscCall(PetscSFDestroy(&d->jsf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable d, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty) {
+  PetscFunctionBegin;
+  PetscCheck(material && material[0], d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableSetMaterialFracture: the material needs a name");
+  PetscCall(CheckNotSetUp(d, "FDEMDeformableSetMaterialFracture"));
+  bool known = false;
+  for (const auto &m : d->materials) known = known || m.name == material;
+  PetscCheck(known, d->comm, PETSC_ERR_ARG_WRONG, "FDEMDeformableSetMaterialFracture: no material '%s' (add it first with FDEMDeformableAddMaterial)", material);
+  fdem::kernels::JointMaterial m;
+  m.name             = material;
+  m.tensile_strength = tensile_strength;
+  m.cohesion         = cohesion;
+  m.friction_angle   = friction_angle;
+  m.GI               = GI;
+  m.GII              = GII;
+  m.penalty          = joint_penalty;
+  // the law's own checks of the material (element size 0 is not checked here: any positive size)
+  PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
+    (void)fdem::kernels::MakeJointLaw(m, 1e-30);
+    return 0;
+  }));
+  d->fracture[material] = m;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable d, PetscInt *joints, PetscInt *broken, PetscReal *max_damage) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetJointStats"));
+  PetscInt  nb = 0;
+  PetscReal D  = 0;
+  for (const auto &st : d->jstate) {
+    bool all = true;
+    for (const auto &p : st) {
+      all = all && p.broken;
+      D   = std::fmax(D, p.D);
+    }
+    nb += all ? 1 : 0;
+  }
+  if (broken) PetscCallMPI(MPI_Allreduce(&nb, broken, 1, MPIU_INT, MPI_SUM, d->comm));
+  if (max_damage) PetscCallMPI(MPI_Allreduce(&D, max_damage, 1, MPIU_REAL, MPI_MAX, d->comm));
+  if (joints) *joints = d->njoints_global;
+  PetscFunctionReturn(0);
+}
