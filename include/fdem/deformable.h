@@ -86,6 +86,11 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
 /* After set-up: the number of joints, of joints broken at all three points, and the
    largest damage reached (collective). */
+/* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
+   max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
+   node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at
+   the first evaluation of a TS (the limit measured in test_fracture_bar: doc/fracture.md). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm, PetscReal *omega);
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
 /* Force terms chain: each added function adds its nodal forces to floc at every force

@@ -8,6 +8,7 @@
 #include "deformable_object.hpp"
 
 #include <fdem/kernels/error.hpp>
+#include <fdem/ts.h>
 #include <petscsf.h>
 
 #include <cmath>
@@ -42,6 +43,30 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
       throw fdem::kernels::InputError("body '" + s.mesh.body_names[b] + "', the joint between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
     }
   }
+  // The joints' largest frequency, estimated node by node: a joint point of area A/3 is a
+  // spring of stiffness p (A/3) / h (the law's slope at zero opening or slip, p / h per
+  // area) between a node pair of the two sides, half of it on each of its edge's nodes;
+  // a node of mass m tied by springs of total stiffness K to its twins has
+  // omega^2 <= 2 K / m (the row sum of its stiffness, Gershgorin).
+  std::vector<double> K(s.mesh.nodes.size(), 0.0), m(s.mesh.nodes.size(), 0.0);
+  for (std::size_t t = 0; t < s.mesh.tets.size(); ++t) {
+    const double q = d->materials[mob[s.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(s.mesh, (int)t)) / 4;
+    for (int n : s.mesh.tets[t]) m[n] += q;
+  }
+  for (std::size_t j = 0; j < s.joints.size(); ++j) {
+    const auto  &J = s.joints[j];
+    const auto  &x = s.mesh.nodes;
+    const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]], x[J.a[2]] - x[J.a[0]]));
+    const double k = d->laws_input[j].penalty * (A / 3) / d->laws_input[j].h; // per point; a node gets two halves
+    for (int i = 0; i < 3; ++i) {
+      K[J.a[i]] += k;
+      K[J.b[i]] += k;
+    }
+  }
+  double w2 = 0;
+  for (std::size_t i = 0; i < K.size(); ++i)
+    if (K[i] > 0 && m[i] > 0) w2 = std::fmax(w2, 2 * K[i] / m[i]);
+  d->joint_omega = std::sqrt(w2);
   d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
   d->joints_input = std::move(s.joints);
@@ -53,6 +78,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCallMPI(MPI_Bcast(&nj, 1, MPIU_INT, 0, d->comm));
   d->njoints_global = nj;
   if (nj == 0) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Bcast(&d->joint_omega, 1, MPIU_REAL, 0, d->comm));
   // where every node and cell went: (rank, local index) gathered on rank 0
   const PetscMPIInt      size = d->size;
   std::vector<PetscMPIInt> nn(size), nc(size), offn(size + 1, 0), offc(size + 1, 0);
@@ -148,6 +174,21 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
 PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
+  if (d->ts && d->ts != d->joint_checked) { // once per TS, at its first evaluation
+    TSType         type;
+    PetscReal      dt;
+    PetscBool      found;
+    FDEMSchemeInfo info;
+    d->joint_checked = d->ts;
+    PetscCall(TSGetType(d->ts, &type));
+    PetscCall(TSGetTimeStep(d->ts, &dt));
+    PetscCall(FDEMSchemeInfoFind(type, &found, &info));
+    const PetscReal r = found && info.kcrit > 0 ? d->joint_omega * dt / info.kcrit : 0;
+    if (r > 0.5)
+      PetscCall(PetscPrintf(d->comm,
+                            "WARNING fdem joints: the joints' frequency omega_j = %g (estimated from the joint penalty and the nodal masses; see doc/fracture.md) makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g or the joint penalty\n",
+                            (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
+  }
   PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
   const std::size_t nj = d->jnode_a.size();
@@ -197,6 +238,13 @@ PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable d, const char *m
     return 0;
   }));
   d->fracture[material] = m;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable d, PetscReal *omega) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetJointFrequency"));
+  *omega = d->joint_omega;
   PetscFunctionReturn(0);
 }
 

@@ -79,6 +79,8 @@ struct _n_FDEMDeformable {
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
   PetscInt                                njoints_global = 0;
+  PetscReal                               joint_omega = 0;    // the joints' largest frequency (estimate), 1/s
+  TS                                      joint_checked = nullptr; // the TS whose time step was checked against it
   std::vector<std::array<int, 3>>         jnode_a;        // this rank's joints: local nodes of triangle a
   std::vector<fdem::kernels::JointLaw>    jlaw;           // their laws
   std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
@@ -109,7 +111,8 @@ PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *
 // SF that brings triangle b's nodes to it.
 void SplitFracturable(FDEMDeformable d, const std::vector<int> &material_of_body);
 PetscErrorCode SetUpJoints(FDEMDeformable d);
-// Adds the joint forces at local positions xl into the local forces fl (collective).
+// Adds the joint forces at local positions xl into the local forces fl; at the first
+// evaluation of a TS, warns when its time step is near the joints' limit (collective).
 PetscErrorCode AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl);
 PetscErrorCode DestroyJoints(FDEMDeformable d);
 

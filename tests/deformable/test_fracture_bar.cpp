@@ -11,7 +11,9 @@
 //     load path crosses a few joint layers per element length: the faces
 //     between cells and the diagonal faces inside them);
 //  3. no joint is damaged (max damage exactly 0);
-//  4. one rank holding the whole bar and all ranks of the run agree on the
+//  4. the largest stable step of cd, found by bisection, is 0.7 to 2 times
+//     2 / omega_j, the joints' frequency estimate of the library's check;
+//  5. one rank holding the whole bar and all ranks of the run agree on the
 //     half-period and the end's path to 1e-9 relative (joints straddle ranks).
 #include "common.hpp"
 
@@ -55,6 +57,52 @@ PetscErrorCode Ring(PetscInt, const PetscReal X[3], PetscReal v[3], void *) {
   return 0;
 }
 
+// Does the split bar (p = p_over_E E) stay bounded for `steps` steps of dt? Also returns
+// the joints' frequency estimate.
+PetscErrorCode Bounded(double p_over_E, double dt, int steps, bool *ok, PetscReal *omega) {
+  FDEMDeformable d;
+  TS             ts;
+  Vec            U, X;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
+  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
+  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
+  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(FDEMDeformableGetJointFrequency(d, omega));
+  if (*omega == 0) *omega = 2 / 1e-5; // no joints: dt in units of 1e-5 s
+  PetscCall(FDEMDeformableSetVelocityField(d, Ring, nullptr));
+  PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetMaxSteps(ts, steps));
+  PetscCall(TSSetMaxTime(ts, 1e9));
+  PetscCall(TSSetErrorIfStepFails(ts, PETSC_FALSE));
+  // an unstable run ends in an error (an inverted element, on every rank): unbounded
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  const PetscErrorCode failed = TSSolve(ts, U);
+  PetscCall(PetscPopErrorHandler());
+  // bounded: every node within 100 times the swing's amplitude (v0 L / (pi c)) of its place
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscInt           n;
+  const PetscScalar *u, *x0;
+  PetscCall(VecGetLocalSize(X, &n));
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArrayRead(X, &x0));
+  double worst = 0, g;
+  for (PetscInt i = 0; i < n; ++i) worst = std::isfinite(u[i]) ? std::fmax(worst, std::fabs(u[i] - x0[i])) : INFINITY;
+  PetscCall(VecRestoreArrayRead(X, &x0));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCallMPI(MPI_Allreduce(&worst, &g, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD));
+  *ok = !failed && g < 100 * v0 * L / (M_PI * std::sqrt(E / rho));
+  PetscCall(VecDestroy(&U));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
 // Half-period of the end's displacement (first crossing from + to -), the
 // end's path, and the joints' largest damage; p_over_E = 0: not split.
 PetscErrorCode Run(MPI_Comm comm, double p_over_E, double *half, std::vector<double> *path, PetscReal *damage, PetscInt *joints) {
@@ -65,7 +113,7 @@ PetscErrorCode Run(MPI_Comm comm, double p_over_E, double *half, std::vector<dou
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableCreate(comm, &d));
   PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
-  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 500, p_over_E * E));
+  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
   const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
   PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
   PetscCall(FDEMDeformableSetUp(d));
@@ -110,6 +158,10 @@ int main(int argc, char **argv) {
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "whole bar: half-period %.6e s (rod theory %.6e), E_eff/E = %.4f\n", tw, L / c, Ew / E));
   CHECK(std::fabs(Ew / E - 1) < 0.02, "the whole bar's modulus is off rod theory by more than 2%");
   std::vector<double> path;
+  double              t1;
+  PetscCall(Run(PETSC_COMM_WORLD, 1, &t1, nullptr, &D, &nj));
+  CHECK(D == 0, "a joint was damaged at a strain far below the strength");
+  const double r1 = rho * (L / t1) * (L / t1) / Ew;
   PetscCall(Run(PETSC_COMM_WORLD, 10, &t10, &path, &D, &nj));
   CHECK(D == 0, "a joint was damaged at a strain far below the strength");
   const double r10 = rho * (L / t10) * (L / t10) / Ew;
@@ -119,9 +171,34 @@ int main(int argc, char **argv) {
   // joints in series with the elements: E / E_eff = 1 + alpha E / p
   const double a10 = (1 / r10 - 1) * 10, a100 = (1 / r100 - 1) * 100;
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "split bar (%" PetscInt_FMT " joints): E_eff/E_whole = %.4f at p = 10 E, %.4f at p = 100 E; alpha = (E_whole/E_eff - 1) p/E = %.3f and %.3f\n", nj, r10, r100, a10, a100));
-  CHECK(r10 < r100 && r100 < 1, "split bars must be softer than the whole bar, less so for a stiffer joint");
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "split bar at p = E: E_eff/E_whole = %.4f, alpha = %.3f\n", r1, 1 / r1 - 1));
+  CHECK(r1 < r10 && r10 < r100 && r100 < 1, "split bars must be softer than the whole bar, less so for a stiffer joint");
   CHECK(std::fabs(a10 / a100 - 1) < 0.15, "the added compliance does not scale as E/p (alpha %.3f at p = 10 E, %.3f at 100 E)", a10, a100);
   CHECK(a10 > 1 && a10 < 6, "alpha = %.3f: not the 1 to 6 joint layers per element length a load path crosses", a10);
+  // the stable step of cd (K_crit = 2) against the joints' estimate omega_j: bisection of the
+  // largest dt that stays bounded for 400 steps, as a multiple of 2 / omega_j
+  for (double pe : {0.0, 1.0, 10.0, 100.0}) { // 0: the whole bar
+    PetscReal w;
+    bool      ok;
+    PetscCall(Bounded(pe, 1e-12, 1, &ok, &w));
+    double lo = 0.25, hi = 4; // in units of 2 / omega_j
+    PetscCall(Bounded(pe, lo * 2 / w, 400, &ok, &w));
+    CHECK(ok, "p = %g E: unstable at a quarter of the estimated limit", pe);
+    PetscCall(Bounded(pe, hi * 2 / w, 400, &ok, &w));
+    if (pe > 0) CHECK(!ok, "p = %g E: stable at 4 times the estimated limit", pe);
+    for (int it = 0; it < 7; ++it) {
+      const double mid = std::sqrt(lo * hi);
+      PetscCall(Bounded(pe, mid * 2 / w, 400, &ok, &w));
+      (ok ? lo : hi) = mid;
+    }
+    if (pe == 0) {
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "whole bar: measured stable step %.4g s\n", lo * 2 / w));
+      continue;
+    }
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "p = %g E: omega_j = %.4g /s, estimated stable step 2/omega_j = %.4g s, measured %.4g s (x %.3f)\n", pe, (double)w, 2 / w, lo * 2 / w, lo));
+    if (pe >= 10) // at p = E the elements' own limit is the lower one
+      CHECK(lo > 0.7 && lo < 2.0, "p = %g E: the measured stable step is %.3f times the estimate (expected 0.7 to 2: the estimate is a Gershgorin bound)", pe, lo);
+  }
   if (size > 1) {
     double              ts1;
     std::vector<double> path1;
