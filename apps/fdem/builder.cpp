@@ -170,6 +170,8 @@ PetscErrorCode BuildDeformable(Sim &s) {
     const Material &m = *sc.FindMaterial(sc.bodies[i].material);
     if (std::find(added.begin(), added.end(), m.name) == added.end()) {
       PetscCall(FDEMDeformableAddMaterial(s.dfm, m.name.c_str(), m.young, m.poisson, m.density, m.damping, ModelOf(m.model)));
+      const Fracture &F = m.fracture;
+      if (F.present) PetscCall(FDEMDeformableSetMaterialFracture(s.dfm, m.name.c_str(), F.tensile_strength, F.cohesion, F.friction_angle, F.GI, F.GII, F.joint_penalty));
       added.push_back(m.name);
     }
     PetscCall(FDEMDeformableSetBodyMaterial(s.dfm, sc.bodies[i].name.c_str(), m.name.c_str()));
@@ -196,7 +198,13 @@ PetscErrorCode BuildDeformable(Sim &s) {
   std::sort(held.begin(), held.end());
   held.erase(std::unique(held.begin(), held.end()), held.end());
   PetscCall(FDEMDeformableSetVelocityField(s.dfm, InitialVelocity, &vf));
-  s.ndofs += 3 * (s.nnodes - (PetscInt)held.size());
+  PetscInt njoints;
+  PetscCall(FDEMDeformableGetJointStats(s.dfm, &njoints, nullptr, nullptr));
+  if (njoints > 0) { // fracturable bodies were split: count the split mesh's nodes (fixed and moved copies too)
+    PetscCall(FDEMDeformableGetSizes(s.dfm, nullptr, nullptr, nullptr, &s.nnodes));
+    s.ndofs += 3 * (s.nnodes - s.nfixed_nodes - s.nmoved_nodes);
+    s.njoints = njoints;
+  } else s.ndofs += 3 * (s.nnodes - (PetscInt)held.size());
   if (sc.contact.present && s.deformable_bodies.size() >= 2) {
     PetscCall(FDEMDeformableContactCreate(s.dfm, &s.dc));
     PetscCall(FDEMDeformableContactSetPenalty(s.dc, sc.contact.penalty));
@@ -322,7 +330,9 @@ PetscErrorCode SimStableStep(Sim &s, const char *scheme, PetscReal safety, Stabl
     st.omega_contact = std::max(st.omega_contact, ratio * st.kcrit / tiny);
   }
   if (st.omega_contact > st.omega_elements) st.limit = "contact (the penalty against the lightest body or element)";
-  const double w = std::max(st.omega_contact, st.omega_elements);
+  if (s.dfm) PetscCall(FDEMDeformableGetJointFrequency(s.dfm, &st.omega_joints));
+  if (st.omega_joints > std::max(st.omega_contact, st.omega_elements)) st.limit = "the fracture joints (the joint penalty against the nodal masses)";
+  const double w = std::max({st.omega_contact, st.omega_elements, st.omega_joints});
   st.dt          = w > 0 ? safety * st.kcrit / w * (1 - 1e-9) : sc.end / 1000;
   PetscFunctionReturn(0);
 }

@@ -27,7 +27,7 @@ struct Balance {
 
 // What limits the time step.
 struct StableStep {
-  double      dt = 0, kcrit = 0, omega_elements = 0, omega_contact = 0;
+  double      dt = 0, kcrit = 0, omega_elements = 0, omega_contact = 0, omega_joints = 0;
   std::string limit; // "elements of body B", "contact", ...
 };
 
@@ -43,7 +43,7 @@ struct Sim {
   TS                            ts    = nullptr;
   Vec                           U     = nullptr;
   std::vector<int>              rigid_bodies, deformable_bodies; // scene body indices per model
-  PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0, nmoved_nodes = 0;
+  PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0, nmoved_nodes = 0, njoints = 0; // nnodes: after any split
   double                        E0    = 0; // total energy at the start (for `dissipated`)
   bool                          have_E0 = false;
 };

@@ -278,8 +278,12 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const PetscInt nbodies = (PetscInt)sc.bodies.size();
   PetscCall(PetscPrintf(comm, "%s%s%s: %d bodies (%d rigid, %d deformable), %" PetscInt_FMT " tetrahedra, %" PetscInt_FMT " nodes (%" PetscInt_FMT " fixed, %" PetscInt_FMT " moved), %" PetscInt_FMT " degrees of freedom, %d ranks\n", sc.file.c_str(),
                         sc.title.empty() ? "" : " -- ", sc.title.c_str(), (int)nbodies, (int)s.rigid_bodies.size(), (int)s.deformable_bodies.size(), s.ntets, s.nnodes, s.nfixed_nodes, s.nmoved_nodes, s.ndofs, (int)size));
-  PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s; limited by %s); end %.4g s\n", (double)dt, sc.dt > 0 ? "from the scene" : "auto",
-                        std::max(st.omega_elements, st.omega_contact) > 0 ? st.kcrit / std::max(st.omega_elements, st.omega_contact) : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, st.limit.c_str(), (double)end));
+  if (s.njoints > 0) PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own; %" PetscInt_FMT " nodes after the split); balance.csv does not count the joints' energy yet\n", s.njoints, s.nnodes));
+  const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
+  char         wj[64] = "";
+  if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
+  PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, sc.dt > 0 ? "from the scene" : "auto",
+                        wmax > 0 ? st.kcrit / wmax : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, wj, st.limit.c_str(), (double)end));
   const PetscInt nsteps = std::max<PetscInt>(1, (PetscInt)std::ceil(end / dt * (1 - 1e-12)));
   if (o.check_only) {
     // time a few steps on a copy of the state

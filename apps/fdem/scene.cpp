@@ -134,7 +134,8 @@ private:
 
 const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "bodies", "generate", "output", "checkpoint", "petsc"};
 const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
-const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping"};
+const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture"};
+const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
 const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
@@ -156,6 +157,21 @@ Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node
     if (!(m.poisson > -1 && m.poisson < 0.5)) r.Fail(n["poisson"], w + ".poisson: must lie in (-1, 0.5), got " + n["poisson"].Scalar());
   }
   if (n["damping"]) m.damping = r.NonNegative(n["damping"], w + ".damping");
+  if (n["fracture"]) {
+    const YAML::Node  f  = n["fracture"];
+    const std::string wf = w + ".fracture";
+    r.Keys(f, wf, kFracture);
+    Fracture &F = m.fracture;
+    F.present          = true;
+    F.where            = r.At(f);
+    F.tensile_strength = r.Positive(r.Required(f, "tensile_strength", wf), wf + ".tensile_strength");
+    F.cohesion         = r.Positive(r.Required(f, "cohesion", wf), wf + ".cohesion");
+    F.friction_angle   = r.NonNegative(r.Required(f, "friction_angle", wf), wf + ".friction_angle");
+    if (!(F.friction_angle < 90)) r.Fail(f["friction_angle"], wf + ".friction_angle: must lie in [0, 90) degrees, got " + f["friction_angle"].Scalar());
+    F.GI            = r.Positive(r.Required(f, "G_I", wf), wf + ".G_I");
+    F.GII           = r.Positive(r.Required(f, "G_II", wf), wf + ".G_II");
+    F.joint_penalty = r.Positive(r.Required(f, "joint_penalty", wf), wf + ".joint_penalty");
+  }
   if (n["model"]) {
     m.model = r.Choice(n["model"], w + ".model", kModels);
     if (m.model == "finite_strain") m.model = "munjiza_cst";
@@ -429,6 +445,8 @@ Scene ReadScene(const std::string &file, const char *text) {
       for (const auto &m : sc.materials) known.push_back(m.name);
       r.Fail(bodies[i]["material"], "body '" + b.name + "'.material: unknown material '" + b.material + "'" + (known.empty() ? std::string(" (the scene has no materials:)") : " (did you mean '" + Nearest(b.material, known) + "'? materials: " + Join(known) + ")"));
     }
+    if (b.model != "deformable" && !b.material.empty() && sc.FindMaterial(b.material)->fracture.present)
+      r.Fail(bodies[i]["material"], "body '" + b.name + "': material '" + b.material + "' is fracturable (fracture: at " + sc.FindMaterial(b.material)->fracture.where + "), and only deformable bodies fracture; give the body model: deformable, or a material without fracture:");
     if (b.model == "deformable") {
       const Material *m = sc.FindMaterial(b.material);
       if (!(m->young > 0)) r.Fail(bodies[i]["material"], "body '" + b.name + "': a deformable body needs a material with young (and poisson); '" + m->name + "' (" + m->where + ") has no young");
@@ -484,7 +502,9 @@ const char *SceneKeysHelp() {
          "  gravity: [gx, gy, gz]                          m/s^2 (default 0)\n"
          "  time: {end: s (required), dt: s | auto, safety: 0.5, scheme: cd|pv|chin|omf30|omf32|fr|pefrl|t112|t16|d112|pc3|pc4|pc5}\n"
          "        dt auto = safety * K_crit(scheme) / omega_max (elements and contact)\n"
-         "  materials: {NAME: {density: kg/m^3, young: Pa, poisson: (-1, 0.5), model: finite_strain|neo_hookean|small_strain, damping: Pa s}}\n"
+         "  materials: {NAME: {density: kg/m^3, young: Pa, poisson: (-1, 0.5), model: finite_strain|neo_hookean|small_strain, damping: Pa s,\n"
+         "                     fracture: {tensile_strength: Pa, cohesion: Pa, friction_angle: degrees, G_I: J/m^2, G_II: J/m^2, joint_penalty: Pa}}}\n"
+         "             (fracture: makes the deformable bodies of the material fracturable: a joint on every interior face)\n"
          "  contact: {penalty: Pa (required), friction: mu, normal_damping: Pa s/m, tangential_viscosity: Pa s/m, buffer: m | auto}\n"
          "  bodies: list of\n"
          "    {name, model: rigid|deformable, material, shape, resolution: element size,\n"

@@ -22,9 +22,17 @@ struct SceneError : std::runtime_error {
 // Where a value was written: "file:line:col" (1-based), for messages.
 using Where = std::string;
 
+// A fracturable material's joints (materials.NAME.fracture; doc/fracture.md).
+struct Fracture {
+  bool   present = false;
+  double tensile_strength = 0, cohesion = 0, friction_angle = 0, GI = 0, GII = 0, joint_penalty = 0;
+  Where  where;
+};
+
 struct Material {
   std::string name, model = "munjiza_cst";
   double      density = 0, young = 0, poisson = 0, damping = 0;
+  Fracture    fracture;
   Where       where;
 };
 

@@ -52,7 +52,8 @@ PETSC_EXTERN const char *const FDEMMaterialModels[];
    current positions and velocities of the local nodes (vloc may be NULL when
    no material is viscous). */
 typedef PetscErrorCode (*FDEMDeformableForceFn)(FDEMDeformable dfm, PetscReal t, Vec xloc, Vec vloc, Vec floc, void *ctx);
-/* A nodal field from the reference position X of node `id` (initial velocity or position). */
+/* A nodal field from the reference position X of node `id` (initial velocity or position);
+   `id` is the input mesh's node id (for a split fracturable body: the node it was copied from). */
 typedef PetscErrorCode (*FDEMDeformableFieldFn)(PetscInt id, const PetscReal X[3], PetscReal out[3], void *ctx);
 
 PETSC_EXTERN PetscErrorCode FDEMDeformableCreate(MPI_Comm comm, FDEMDeformable *dfm);
@@ -79,9 +80,10 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
    each of their tetrahedra gets its own four nodes and every face two of them shared
    becomes a joint held by the cohesive law: tensile strength f_t (Pa), cohesion c (Pa),
    friction angle (degrees), fracture energies G_I and G_II (J/m^2) and the joint penalty
-   (Pa). The split renumbers the nodes of those bodies: fix or move their nodes by region
-   (FixNodesInBox), not by input id. Joints that straddle ranks are computed by the rank
-   of one side. Not yet: broken joints as contact surfaces, fragments, joint energy in
+   (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field
+   callbacks still use the input mesh's ids (an input node stands for all its copies), while node ids and
+   counts that the library reports are those of the split mesh. Joints that straddle
+   ranks are computed by the rank of one side. Not yet: broken joints as contact surfaces, fragments, joint energy in
    GetEnergy, joint state in checkpoints. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
 /* After set-up: the number of joints, of joints broken at all three points, and the

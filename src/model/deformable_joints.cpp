@@ -11,6 +11,7 @@
 #include <fdem/ts.h>
 #include <petscsf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -74,10 +75,12 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
 
 PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscFunctionBegin;
-  PetscInt nj = d->rank == 0 ? (PetscInt)d->joints_input.size() : 0;
-  PetscCallMPI(MPI_Bcast(&nj, 1, MPIU_INT, 0, d->comm));
+  PetscInt sizes[2] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0};
+  PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
+  const PetscInt nj = sizes[0];
   d->njoints_global = nj;
-  if (nj == 0) PetscFunctionReturn(0);
+  d->owned_input.clear();
+  if (sizes[1] == 0) PetscFunctionReturn(0); // nothing was split
   PetscCallMPI(MPI_Bcast(&d->joint_omega, 1, MPIU_REAL, 0, d->comm));
   // where every node and cell went: (rank, local index) gathered on rank 0
   const PetscMPIInt      size = d->size;
@@ -94,6 +97,19 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   std::vector<PetscInt> allnodes(d->rank == 0 ? offn[size] : 0), allcells(d->rank == 0 ? offc[size] : 0);
   PetscCallMPI(MPI_Gatherv(d->node_gid.data(), mine[0], MPIU_INT, allnodes.data(), nn.data(), offn.data(), MPIU_INT, 0, d->comm));
   PetscCallMPI(MPI_Gatherv(d->cell_gid.data(), mine[1], MPIU_INT, allcells.data(), nc.data(), offc.data(), MPIU_INT, 0, d->comm));
+  // the input node of every local node, back to its rank (FixNodes/MoveNodes take input ids)
+  {
+    std::vector<PetscInt> parents(d->rank == 0 ? offn[size] : 0), mine_p(d->nlocal);
+    if (d->rank == 0) {
+      for (std::size_t i = 0; i < parents.size(); ++i) parents[i] = d->split_parent[allnodes[i]];
+      d->ninput_nodes = 1 + *std::max_element(d->split_parent.begin(), d->split_parent.end());
+    }
+    PetscCallMPI(MPI_Scatterv(parents.data(), nn.data(), offn.data(), MPIU_INT, mine_p.data(), (PetscMPIInt)d->nlocal, MPIU_INT, 0, d->comm));
+    PetscCallMPI(MPI_Bcast(&d->ninput_nodes, 1, MPIU_INT, 0, d->comm));
+    d->owned_input.resize(d->nown);
+    for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
+  }
+  if (nj == 0) PetscFunctionReturn(0);
   // rank 0: each joint's record (7 ints, 10 reals) to the rank of its tetrahedron a
   constexpr int          NI = 7, NR = 10;
   std::vector<PetscInt>  ibuf;

@@ -301,8 +301,8 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   if (d->rank == 0) d->mesh = fdem::kernels::TetMesh(); // the distributed DM holds it now
   d->has_mesh = false;
   PetscCall(BuildLocal(d, orig, cellbody, dims[0]));
-  d->split_parent.clear();
   PetscCall(SetUpJoints(d));
+  d->split_parent.clear();
   d->setup = true;
   if (d->view) {
     PetscReal w = 0;

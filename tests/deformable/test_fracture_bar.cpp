@@ -13,7 +13,8 @@
 //  3. no joint is damaged (max damage exactly 0);
 //  4. the largest stable step of cd, found by bisection, is 0.7 to 2 times
 //     2 / omega_j, the joints' frequency estimate of the library's check;
-//  5. one rank holding the whole bar and all ranks of the run agree on the
+//  5. FixNodes by the input mesh's ids fixes every copy of those nodes;
+//  6. one rank holding the whole bar and all ranks of the run agree on the
 //     half-period and the end's path to 1e-9 relative (joints straddle ranks).
 #include "common.hpp"
 
@@ -103,6 +104,38 @@ PetscErrorCode Bounded(double p_over_E, double dt, int steps, bool *ok, PetscRea
   PetscFunctionReturn(0);
 }
 
+// FDEMDeformableFixNodes takes input ids: on a split bar, the 9 input nodes of the end
+// X = 0 stand for all their copies (one per tetrahedron around each), counted here from
+// the kernel's mesh; on the whole bar they are 9 nodes.
+PetscErrorCode FixByInputId(double p_over_E, PetscInt *nfixed, PetscInt *expected) {
+  FDEMDeformable d;
+  PetscMPIInt    rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
+  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
+  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
+  PetscCall(FDEMDeformableSetUp(d));
+  const fdem::kernels::TetMesh M = fdem::kernels::MakeBoxMesh({0, 0, 0}, {L, 0.1, 0.1}, 20, 2, 2);
+  std::vector<PetscInt>        ids;
+  std::vector<char>            end(M.nodes.size(), 0);
+  for (std::size_t i = 0; i < M.nodes.size(); ++i)
+    if (M.nodes[i].x < 1e-12) {
+      ids.push_back((PetscInt)i);
+      end[i] = 1;
+    }
+  *expected = 0;
+  if (p_over_E > 0)
+    for (const auto &t : M.tets)
+      for (int n : t) *expected += end[n];
+  else *expected = (PetscInt)ids.size();
+  PetscCall(FDEMDeformableFixNodes(d, rank == 0 ? (PetscInt)ids.size() : 0, ids.data(), nfixed));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
 // Half-period of the end's displacement (first crossing from + to -), the
 // end's path, and the joints' largest damage; p_over_E = 0: not split.
 PetscErrorCode Run(MPI_Comm comm, double p_over_E, double *half, std::vector<double> *path, PetscReal *damage, PetscInt *joints) {
@@ -175,6 +208,12 @@ int main(int argc, char **argv) {
   CHECK(r1 < r10 && r10 < r100 && r100 < 1, "split bars must be softer than the whole bar, less so for a stiffer joint");
   CHECK(std::fabs(a10 / a100 - 1) < 0.15, "the added compliance does not scale as E/p (alpha %.3f at p = 10 E, %.3f at 100 E)", a10, a100);
   CHECK(a10 > 1 && a10 < 6, "alpha = %.3f: not the 1 to 6 joint layers per element length a load path crosses", a10);
+  for (double pe : {0.0, 10.0}) {
+    PetscInt nf, ne;
+    PetscCall(FixByInputId(pe, &nf, &ne));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s bar: the 9 input nodes of the end fix %" PetscInt_FMT " nodes (expected %" PetscInt_FMT ")\n", pe > 0 ? "split" : "whole", nf, ne));
+    CHECK(nf == ne && ne >= 9, "fixing by input id: %" PetscInt_FMT " nodes fixed, expected %" PetscInt_FMT, nf, ne);
+  }
   // the stable step of cd (K_crit = 2) against the joints' estimate omega_j: bisection of the
   // largest dt that stays bounded for 400 steps, as a multiple of 2 / omega_j
   for (double pe : {0.0, 1.0, 10.0, 100.0}) { // 0: the whole bar
