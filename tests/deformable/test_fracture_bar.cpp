@@ -30,6 +30,21 @@ struct Probe {
   std::vector<double> t;
 };
 
+// The bar (1 x 0.1 x 0.1 m, 20 x 2 x 2 cubes of 6 tetrahedra), set up; split into joints
+// with penalty p_over_E E when p_over_E > 0 (strengths far above the tests' loads).
+PetscErrorCode MakeBar(MPI_Comm comm, double p_over_E, FDEMDeformable *bar) {
+  FDEMDeformable d;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableCreate(comm, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
+  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
+  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
+  PetscCall(FDEMDeformableSetUp(d));
+  *bar = d;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode EndDisplacement(TS, PetscInt, PetscReal time, Vec U, void *ctx) {
   Probe             *p = (Probe *)ctx;
   const PetscScalar *u, *X;
@@ -65,12 +80,7 @@ PetscErrorCode Bounded(double p_over_E, double dt, int steps, bool *ok, PetscRea
   TS             ts;
   Vec            U, X;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
-  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
-  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
-  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
-  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
-  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(MakeBar(PETSC_COMM_WORLD, p_over_E, &d));
   PetscCall(FDEMDeformableGetJointFrequency(d, omega));
   if (*omega == 0) *omega = 2 / 1e-5; // no joints: dt in units of 1e-5 s
   PetscCall(FDEMDeformableSetVelocityField(d, Ring, nullptr));
@@ -112,12 +122,7 @@ PetscErrorCode FixByInputId(double p_over_E, PetscInt *nfixed, PetscInt *expecte
   PetscMPIInt    rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
-  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
-  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
-  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
-  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
-  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
-  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(MakeBar(PETSC_COMM_WORLD, p_over_E, &d));
   const fdem::kernels::TetMesh M = fdem::kernels::MakeBoxMesh({0, 0, 0}, {L, 0.1, 0.1}, 20, 2, 2);
   std::vector<PetscInt>        ids;
   std::vector<char>            end(M.nodes.size(), 0);
@@ -144,12 +149,7 @@ PetscErrorCode Run(MPI_Comm comm, double p_over_E, double *half, std::vector<dou
   Vec            U;
   Probe          p;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableCreate(comm, &d));
-  PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
-  if (p_over_E > 0) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 100, 2000, p_over_E * E));
-  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
-  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 20, 2, 2));
-  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(MakeBar(comm, p_over_E, &d));
   PetscCall(FDEMDeformableSetVelocityField(d, Ring, nullptr));
   p.d = d;
   PetscCall(FDEMDeformableGetReferencePositions(d, &p.X));

@@ -29,6 +29,12 @@ TetMesh TwoBoxes() {
   a.body_names = {"split", "whole"};
   return a;
 }
+JointMaterial Mortar() {
+  JointMaterial m;
+  m.name = "mortar";
+  m.tensile_strength = 1e6, m.cohesion = 3e6, m.friction_angle = 30, m.GI = 10, m.GII = 50, m.penalty = 1e11;
+  return m;
+}
 Vec3 Centroid(const TetMesh &m, int t) {
   return 0.25 * (m.nodes[m.tets[t][0]] + m.nodes[m.tets[t][1]] + m.nodes[m.tets[t][2]] + m.nodes[m.tets[t][3]]);
 }
@@ -97,9 +103,7 @@ TEST(JointMesh, NothingToSplit) {
 // node) or strained uniformly, coincident nodes kept together: no force, no damage.
 TEST(JointMesh, JointsOfAnIntactMotionCarryNoForce) {
   const SplitMesh s = SplitForJoints(MakeBoxMesh({0, 0, 0}, {0.1, 0.1, 0.2}, 2, 2, 4), {1});
-  JointMaterial mat;
-  mat.name = "mortar";
-  mat.tensile_strength = 1e6, mat.cohesion = 3e6, mat.friction_angle = 30, mat.GI = 10, mat.GII = 50, mat.penalty = 1e11;
+  const JointMaterial mat = Mortar();
   const JointLaw law = MakeJointLaw(mat, 0.05);
   const double c = std::cos(0.7), sn = std::sin(0.7);
   auto rigid = [&](const Vec3 &p) { return Vec3{c * p.x - sn * p.y + 0.3, sn * p.x + c * p.y, p.z - 1.0}; };
@@ -130,9 +134,7 @@ TEST(JointMesh, JointsOfAnIntactMotionCarryNoForce) {
 // at x = 1/2), whichever side of a joint is its triangle a.
 TEST(JointMesh, CutPlaneOpensUniformly) {
   const SplitMesh s = SplitForJoints(MakeBoxMesh({0, 0, 0}, {0.1, 0.1, 0.2}, 3, 3, 4), {1});
-  JointMaterial mat;
-  mat.name = "mortar";
-  mat.tensile_strength = 1e6, mat.cohesion = 3e6, mat.friction_angle = 30, mat.GI = 10, mat.GII = 50, mat.penalty = 1e11;
+  const JointMaterial mat = Mortar();
   const JointLaw law = MakeJointLaw(mat, 0.05);
   const double lift = 0.5 * law.dn_peak;
   std::vector<Vec3> x = s.mesh.nodes;
