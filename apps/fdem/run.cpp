@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <csignal>
 #include <ctime>
@@ -207,15 +209,39 @@ PetscErrorCode ConfigureTS(Sim &s, PetscReal dt, PetscReal end) {
   PetscFunctionReturn(0);
 }
 
-// Writes DIR/checkpoint.h5 atomically: the file is written as checkpoint.h5.tmp and renamed
-// over the previous one, which is first kept as checkpoint.1.h5 (a hard link, so that a
-// checkpoint.h5 exists at every moment); older ones shift to .2, .3, ... up to `keep` files.
+// The temporary name of DIR/checkpoint.h5: checkpoint.h5.tmp-<hash of DIR's real path>.
+// Unique per folder, because Open MPI's MPI-IO names a semaphore after the file's base
+// name only: two runs writing "checkpoint.h5.tmp" in two folders at once blocked each
+// other. The same on every rank (rank 0's path) and from run to run in one folder.
+static PetscErrorCode TemporaryName(MPI_Comm comm, const std::string &dir, const std::string &ck, std::string &tmp) {
+  PetscMPIInt        rank;
+  unsigned long long h = 0;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    char *real = realpath(dir.c_str(), nullptr);
+    h          = std::hash<std::string>{}(real ? std::string(real) : dir);
+    free(real);
+  }
+  PetscCallMPI(MPI_Bcast(&h, 1, MPI_UNSIGNED_LONG_LONG, 0, comm));
+  char hex[32];
+  std::snprintf(hex, sizeof hex, "%016llx", h);
+  tmp = ck + ".tmp-" + hex;
+  PetscFunctionReturn(0);
+}
+
+// Writes DIR/checkpoint.h5 atomically: the file is written under a temporary name
+// (TemporaryName) and renamed over the previous one, which is first kept as
+// checkpoint.1.h5 (a hard link, so that a checkpoint.h5 exists at every moment); older
+// ones shift to .2, .3, ... up to `keep` files.
 PetscErrorCode WriteCheckpoint(Sim &s, const std::string &dir, long keep, PetscReal t, PetscInt step, PetscReal dt, bool kill) {
   PetscMPIInt       rank;
-  const std::string ck = dir + "/checkpoint.h5", tmp = ck + ".tmp";
+  const std::string ck = dir + "/checkpoint.h5";
+  std::string       tmp;
   int               err = 0;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(TemporaryName(s.comm, dir, ck, tmp));
   PetscCall(SimWriteCheckpoint(s, tmp.c_str(), t, step, dt));
   PetscCallMPI(MPI_Barrier(s.comm));
   if (kill) raise(SIGKILL);
