@@ -197,6 +197,8 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(VecReciprocal(d->minv));
   d->fixed.assign(d->nown, 0);
   d->vfix.assign(3 * d->nown, 0);
+  d->local_is_owned = d->size == 1 && d->nlocal == d->nown;
+  for (PetscInt k = 0; d->local_is_owned && k < d->nown; ++k) d->local_is_owned = d->owned_local[k] == k;
   PetscFunctionReturn(0);
 }
 
