@@ -31,22 +31,30 @@ struct Kin {
   double c[9], A[9], detC, J, pre[2];
 };
 
-template <class Model>
-inline void Kinematics(const TetElement &el, const double *__restrict x, Kin &k) {
-  const double *x0 = x + 3 * el.n[0], *x1 = x + 3 * el.n[1], *x2 = x + 3 * el.n[2], *x3 = x + 3 * el.n[3];
+// C, its adjugate and det C from the four corners X = (x0, x1, x2, x3).
+inline void EdgeMatrix(const double *X, double *C, double *A, double &detC) {
+  const double *x0 = X, *x1 = X + 3, *x2 = X + 6, *x3 = X + 9;
   const double c00 = x1[0] - x0[0], c01 = x2[0] - x0[0], c02 = x3[0] - x0[0];
   const double c10 = x1[1] - x0[1], c11 = x2[1] - x0[1], c12 = x3[1] - x0[1];
   const double c20 = x1[2] - x0[2], c21 = x2[2] - x0[2], c22 = x3[2] - x0[2];
-  k.c[0] = c00, k.c[1] = c01, k.c[2] = c02;
-  k.c[3] = c10, k.c[4] = c11, k.c[5] = c12;
-  k.c[6] = c20, k.c[7] = c21, k.c[8] = c22;
+  C[0] = c00, C[1] = c01, C[2] = c02;
+  C[3] = c10, C[4] = c11, C[5] = c12;
+  C[6] = c20, C[7] = c21, C[8] = c22;
   const double A00 = c11 * c22 - c12 * c21, A01 = c02 * c21 - c01 * c22, A02 = c01 * c12 - c02 * c11;
   const double A10 = c12 * c20 - c10 * c22, A11 = c00 * c22 - c02 * c20, A12 = c02 * c10 - c00 * c12;
   const double A20 = c10 * c21 - c11 * c20, A21 = c01 * c20 - c00 * c21, A22 = c00 * c11 - c01 * c10;
-  k.A[0] = A00, k.A[1] = A01, k.A[2] = A02;
-  k.A[3] = A10, k.A[4] = A11, k.A[5] = A12;
-  k.A[6] = A20, k.A[7] = A21, k.A[8] = A22;
-  k.detC = c00 * A00 + c01 * A10 + c02 * A20;
+  A[0] = A00, A[1] = A01, A[2] = A02;
+  A[3] = A10, A[4] = A11, A[5] = A12;
+  A[6] = A20, A[7] = A21, A[8] = A22;
+  detC = c00 * A00 + c01 * A10 + c02 * A20;
+}
+
+template <class Model>
+inline void Kinematics(const TetElement &el, const double *__restrict x, Kin &k) {
+  double X[12];
+  for (int a = 0; a < 4; ++a)
+    for (int j = 0; j < 3; ++j) X[3 * a + j] = x[3 * el.n[a] + j];
+  EdgeMatrix(X, k.c, k.A, k.detC);
   k.J = k.detC * el.inv6V0;
   k.pre[0] = k.pre[1] = 0;
   if (Model::kSmallStrain || k.J > 0) Model::Prepare(k.J, k.pre);
@@ -199,14 +207,24 @@ std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count
       // component-major so that the loop runs two elements per SSE2
       // instruction (the same operations per element as Core; an inverted
       // element's forces are computed from pre = 0 and dropped below)
-      alignas(16) double kc[9][kBlock], kA[9][kBlock], kX[9][kBlock], kJ[kBlock], kP[2][kBlock], kV[kBlock], fb[12][kBlock];
+      alignas(16) double kx[12][kBlock], kI[kBlock], kc[9][kBlock], kA[9][kBlock], kX[9][kBlock], kJ[kBlock], kP[2][kBlock], kV[kBlock], fb[12][kBlock];
+      // gather the corners (and the element constants) component-major
       for (; nb < kBlock && i + nb < count && elems[i + nb].material == mat; ++nb) {
         const TetElement &el = elems[i + nb];
-        Kin k;
-        Kinematics<Model>(el, x, k);
-        for (int j = 0; j < 9; ++j) kc[j][nb] = k.c[j], kA[j][nb] = k.A[j], kX[j][nb] = el.Xinv[j];
-        kJ[nb] = k.J, kP[0][nb] = k.pre[0], kP[1][nb] = k.pre[1], kV[nb] = el.V0;
+        for (int a = 0; a < 4; ++a)
+          for (int j = 0; j < 3; ++j) kx[3 * a + j][nb] = x[3 * el.n[a] + j];
+        for (int j = 0; j < 9; ++j) kX[j][nb] = el.Xinv[j];
+        kI[nb] = el.inv6V0, kV[nb] = el.V0;
       }
+      // kinematics as Kinematics(), two elements an instruction
+      for (std::size_t b = 0; b < nb; ++b) {
+        double X[12], C[9], A[9], detC;
+        for (int j = 0; j < 12; ++j) X[j] = kx[j][b];
+        EdgeMatrix(X, C, A, detC);
+        for (int j = 0; j < 9; ++j) kc[j][b] = C[j], kA[j][b] = A[j];
+        kJ[b] = detC * kI[b];
+      }
+      Model::PrepareBlock(kJ, kP[0], kP[1], nb); // inverted elements too: their forces are dropped
       if (nb == 0) break;
       for (std::size_t b = 0; b < nb; ++b) {
         double C[9], A[9], Xi[9], pre[2] = {kP[0][b], kP[1][b]}, F[9], T[6], fe[12];

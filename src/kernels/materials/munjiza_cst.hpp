@@ -27,6 +27,8 @@ struct MunjizaCST {
   // once (independent chains overlap in the pipeline): pre[0] = J^(-1/3).
   static constexpr int kPre = 1;
   static inline void Prepare(double J, double *pre) { pre[0] = InvCbrt(J); }
+  // The same for n elements: pre0[b], pre1[b] from J[b] (the same values).
+  static inline void PrepareBlock(const double *J, double *pre0, double * /*pre1*/, std::size_t n) { InvCbrtBlock(J, pre0, n); }
   // Symmetric tensors are stored as (xx, yy, zz, xy, yz, xz); F row-major.
   static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *pre, const double *D, double *T) {
     double B[6];

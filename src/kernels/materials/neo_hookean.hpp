@@ -21,6 +21,10 @@ struct NeoHookean {
     pre[0] = InvCbrt(J);
     pre[1] = 1.0 / J;
   }
+  static inline void PrepareBlock(const double *J, double *pre0, double *pre1, std::size_t n) {
+    InvCbrtBlock(J, pre0, n);
+    for (std::size_t b = 0; b < n; ++b) pre1[b] = 1.0 / J[b];
+  }
   static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *pre, const double *D, double *T) {
     double B[6];
     LeftCauchyGreen(F, B);
