@@ -46,6 +46,12 @@ PETSC_EXTERN const char *const FDEMGradientTypes[];
    state U and updates its position entries in place. */
 typedef PetscErrorCode (*FDEMDriftFn)(TS ts, PetscReal t, PetscReal s, Vec U, void *ctx);
 PETSC_EXTERN PetscErrorCode FDEMTSSetDrift(TS ts, FDEMDriftFn drift, void *ctx);
+/* Declares that the "position" split's right-hand side is the momentum itself
+   (F_q(p) = p, dq/dt = p entry by entry, the two splits laid out alike): the
+   default drift is then position += s momentum in one pass, without calling
+   the position RHS or copying its result (the same answer to the bit). Read
+   at TSSetUp. */
+PETSC_EXTERN PetscErrorCode FDEMTSSetPositionRHSIdentity(TS ts, PetscBool flg);
 
 /* JW = (dF_p/dq)(t, q) W : the derivative of the momentum RHS along a
    position-space direction W (q, W position-sized; JW momentum-sized). */

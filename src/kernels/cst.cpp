@@ -21,18 +21,50 @@ struct Extra {
   double F[9], L[9], D[6], J;
 };
 
-// Status: 0 ok, 1 inverted and force skipped, 2 inverted but force computed.
-template <class Model, bool Visc, bool Diag>
-inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__restrict x, const double *__restrict v,
-                double *__restrict T, double *__restrict fe, Extra *ex) {
-  const double *x0 = x + 3 * el.n[0], *x1 = x + 3 * el.n[1], *x2 = x + 3 * el.n[2], *x3 = x + 3 * el.n[3];
-  // Current edge matrix C = [x1-x0, x2-x0, x3-x0] (columns), row-major.
+// An element's kinematics from the positions alone: the current edge matrix
+// C = [x1-x0, x2-x0, x3-x0] (row-major), its adjugate A (C^-1 = A / det C;
+// row a of C^-1 is grad N_{a+1}, current), det C, J = det F and the model's
+// scalar functions of J (Model::Prepare, when J > 0 or the model is
+// small-strain). The batched loop computes it for a block of elements before
+// the stresses, so that the cube roots of the block overlap.
+struct Kin {
+  double c[9], A[9], detC, J, pre[2];
+};
+
+// C, its adjugate and det C from the four corners X = (x0, x1, x2, x3).
+inline void EdgeMatrix(const double *X, double *C, double *A, double &detC) {
+  const double *x0 = X, *x1 = X + 3, *x2 = X + 6, *x3 = X + 9;
   const double c00 = x1[0] - x0[0], c01 = x2[0] - x0[0], c02 = x3[0] - x0[0];
   const double c10 = x1[1] - x0[1], c11 = x2[1] - x0[1], c12 = x3[1] - x0[1];
   const double c20 = x1[2] - x0[2], c21 = x2[2] - x0[2], c22 = x3[2] - x0[2];
-  const double *Xi = el.Xinv;
-  // F = C Xref^-1 (eqs 4.209-4.211).
-  double F[9];
+  C[0] = c00, C[1] = c01, C[2] = c02;
+  C[3] = c10, C[4] = c11, C[5] = c12;
+  C[6] = c20, C[7] = c21, C[8] = c22;
+  const double A00 = c11 * c22 - c12 * c21, A01 = c02 * c21 - c01 * c22, A02 = c01 * c12 - c02 * c11;
+  const double A10 = c12 * c20 - c10 * c22, A11 = c00 * c22 - c02 * c20, A12 = c02 * c10 - c00 * c12;
+  const double A20 = c10 * c21 - c11 * c20, A21 = c01 * c20 - c00 * c21, A22 = c00 * c11 - c01 * c10;
+  A[0] = A00, A[1] = A01, A[2] = A02;
+  A[3] = A10, A[4] = A11, A[5] = A12;
+  A[6] = A20, A[7] = A21, A[8] = A22;
+  detC = c00 * A00 + c01 * A10 + c02 * A20;
+}
+
+template <class Model>
+inline void Kinematics(const TetElement &el, const double *__restrict x, Kin &k) {
+  double X[12];
+  for (int a = 0; a < 4; ++a)
+    for (int j = 0; j < 3; ++j) X[3 * a + j] = x[3 * el.n[a] + j];
+  EdgeMatrix(X, k.c, k.A, k.detC);
+  k.J = k.detC * el.inv6V0;
+  k.pre[0] = k.pre[1] = 0;
+  if (Model::kSmallStrain || k.J > 0) Model::Prepare(k.J, k.pre);
+}
+
+// F = C Xref^-1 (eqs 4.209-4.211); C and Xi row-major.
+inline void DeformationGradient(const double *C, const double *Xi, double *F) {
+  const double c00 = C[0], c01 = C[1], c02 = C[2];
+  const double c10 = C[3], c11 = C[4], c12 = C[5];
+  const double c20 = C[6], c21 = C[7], c22 = C[8];
   F[0] = c00 * Xi[0] + c01 * Xi[3] + c02 * Xi[6];
   F[1] = c00 * Xi[1] + c01 * Xi[4] + c02 * Xi[7];
   F[2] = c00 * Xi[2] + c01 * Xi[5] + c02 * Xi[8];
@@ -42,12 +74,49 @@ inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__r
   F[6] = c20 * Xi[0] + c21 * Xi[3] + c22 * Xi[6];
   F[7] = c20 * Xi[1] + c21 * Xi[4] + c22 * Xi[7];
   F[8] = c20 * Xi[2] + c21 * Xi[5] + c22 * Xi[8];
-  // adj(C): C^-1 = adj(C)/det C; row a of C^-1 is grad N_{a+1} (current).
-  const double A00 = c11 * c22 - c12 * c21, A01 = c02 * c21 - c01 * c22, A02 = c01 * c12 - c02 * c11;
-  const double A10 = c12 * c20 - c10 * c22, A11 = c00 * c22 - c02 * c20, A12 = c02 * c10 - c00 * c12;
-  const double A20 = c10 * c21 - c11 * c20, A21 = c01 * c20 - c00 * c21, A22 = c00 * c11 - c01 * c10;
-  const double detC = c00 * A00 + c01 * A10 + c02 * A20;
-  const double J = detC * el.inv6V0;
+}
+
+// Nodal forces f_a = -vol T grad N_a (eq 4.221 with the 1/3 face split:
+// equals T a_a / 3, a_a the outward area vector of the face opposite a);
+// A = adj(C), Xi = Xref^-1, V0 the reference volume.
+template <class Model>
+inline void NodalForces(const double *T, const double *A, const double *Xi, double V0, double *fe) {
+  double g[9];
+  if constexpr (Model::kSmallStrain) {
+    const double s = -V0;  // reference volume times reference gradients
+    for (int i = 0; i < 9; ++i) g[i] = s * Xi[i];
+  } else {
+    (void)Xi, (void)V0;
+    const double s = -1.0 / 6.0;  // vol * C^-1 = adj(C) / 6
+    for (int i = 0; i < 9; ++i) g[i] = s * A[i];
+  }
+  double s0 = 0, s1 = 0, s2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double gx = g[3 * a], gy = g[3 * a + 1], gz = g[3 * a + 2];
+    const double fx = T[0] * gx + T[3] * gy + T[5] * gz;
+    const double fy = T[3] * gx + T[1] * gy + T[4] * gz;
+    const double fz = T[5] * gx + T[4] * gy + T[2] * gz;
+    fe[3 * (a + 1)] = fx, fe[3 * (a + 1) + 1] = fy, fe[3 * (a + 1) + 2] = fz;
+    s0 += fx, s1 += fy, s2 += fz;
+  }
+  fe[0] = -s0, fe[1] = -s1, fe[2] = -s2;
+}
+
+// Status: 0 ok, 1 inverted and force skipped, 2 inverted but force computed.
+template <class Model, bool Visc, bool Diag>
+inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, const double *__restrict v,
+                  double *__restrict T, double *__restrict fe, Extra *ex) {
+  const double c00 = k.c[0], c01 = k.c[1], c02 = k.c[2];
+  const double c10 = k.c[3], c11 = k.c[4], c12 = k.c[5];
+  const double c20 = k.c[6], c21 = k.c[7], c22 = k.c[8];
+  const double *Xi = el.Xinv;
+  double F[9];
+  DeformationGradient(k.c, Xi, F);
+  const double A00 = k.A[0], A01 = k.A[1], A02 = k.A[2];
+  const double A10 = k.A[3], A11 = k.A[4], A12 = k.A[5];
+  const double A20 = k.A[6], A21 = k.A[7], A22 = k.A[8];
+  const double detC = k.detC;
+  const double J = k.J;
   int status = 0;
   if (!(J > 0)) {
     if constexpr (!Model::kSmallStrain) {
@@ -97,63 +166,121 @@ inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__r
     (void)v;
     for (double &l : L) l = 0;
   }
-  Model::Stress(c, F, J, D, T);
+  Model::Stress(c, F, J, k.pre, D, T);
   if constexpr (Diag) {
     for (int i = 0; i < 9; ++i) ex->F[i] = F[i], ex->L[i] = L[i];
     for (int i = 0; i < 6; ++i) ex->D[i] = D[i];
     ex->J = J;
   }
-  // Nodal forces f_a = -vol T grad N_a (eq 4.221 with the 1/3 face split:
-  // equals T a_a / 3, a_a the outward area vector of the face opposite a).
-  double g[9];
-  if constexpr (Model::kSmallStrain) {
-    const double s = -el.V0;  // reference volume times reference gradients
-    for (int i = 0; i < 9; ++i) g[i] = s * Xi[i];
-  } else {
-    const double s = -1.0 / 6.0;  // vol * C^-1 = adj(C) / 6
-    g[0] = s * A00, g[1] = s * A01, g[2] = s * A02;
-    g[3] = s * A10, g[4] = s * A11, g[5] = s * A12;
-    g[6] = s * A20, g[7] = s * A21, g[8] = s * A22;
-  }
-  double s0 = 0, s1 = 0, s2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double gx = g[3 * a], gy = g[3 * a + 1], gz = g[3 * a + 2];
-    const double fx = T[0] * gx + T[3] * gy + T[5] * gz;
-    const double fy = T[3] * gx + T[1] * gy + T[4] * gz;
-    const double fz = T[5] * gx + T[4] * gy + T[2] * gz;
-    fe[3 * (a + 1)] = fx, fe[3 * (a + 1) + 1] = fy, fe[3 * (a + 1) + 2] = fz;
-    s0 += fx, s1 += fy, s2 += fz;
-  }
-  fe[0] = -s0, fe[1] = -s1, fe[2] = -s2;
+  NodalForces<Model>(T, k.A, Xi, el.V0, fe);
   return status;
 }
 
+// One element, kinematics and forces (diagnostics: EvaluateTet).
+template <class Model, bool Visc, bool Diag>
+inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__restrict x, const double *__restrict v,
+                double *__restrict T, double *__restrict fe, Extra *ex) {
+  Kin k;
+  Kinematics<Model>(el, x, k);
+  return Forces<Model, Visc, Diag>(el, c, k, v, T, fe, ex);
+}
+
+// Elements of one material from elems[0] on, in blocks of kBlock: the
+// kinematics of the block first (its cube roots are independent and overlap),
+// then stress and forces element by element, each element's forces added to
+// its nodes in element order (the same sums, in the same order, as one
+// element at a time).
+constexpr std::size_t kBlock = 16;
+
 template <class Model, bool Visc>
 std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count, const MaterialCoeffs &c,
-                   const double *x, const double *v, double *f) {
+                   const double *x, const double *v, double *f, std::size_t *done) {
   std::int64_t bad = -1;
   const MaterialCoeffs cc = c;
-  for (std::size_t i = 0; i < count; ++i) {
-    const TetElement &el = elems[i];
-    double T[6], fe[12];
-    const int st = Core<Model, Visc, false>(el, cc, x, v, T, fe, nullptr);
-    if (st != 0) {
-      if (bad < 0) bad = static_cast<std::int64_t>(first + i);
-      if (st == 1) continue;
+  const int mat = count ? elems[0].material : 0;
+  Kin kin[kBlock];
+  std::size_t i = 0;
+  while (i < count) {
+    std::size_t nb = 0;
+    if constexpr (!Visc) {
+      // kinematics of the block, then its stresses and forces with the data
+      // component-major so that the loop runs two elements per SSE2
+      // instruction (the same operations per element as Core; an inverted
+      // element's forces are computed from pre = 0 and dropped below)
+      alignas(16) double kx[12][kBlock], kI[kBlock], kc[9][kBlock], kA[9][kBlock], kX[9][kBlock], kJ[kBlock], kP[2][kBlock], kV[kBlock], fb[12][kBlock];
+      // gather the corners (and the element constants) component-major
+      for (; nb < kBlock && i + nb < count && elems[i + nb].material == mat; ++nb) {
+        const TetElement &el = elems[i + nb];
+        for (int a = 0; a < 4; ++a)
+          for (int j = 0; j < 3; ++j) kx[3 * a + j][nb] = x[3 * el.n[a] + j];
+        for (int j = 0; j < 9; ++j) kX[j][nb] = el.Xinv[j];
+        kI[nb] = el.inv6V0, kV[nb] = el.V0;
+      }
+      // kinematics as Kinematics(), two elements an instruction
+      for (std::size_t b = 0; b < nb; ++b) {
+        double X[12], C[9], A[9], detC;
+        for (int j = 0; j < 12; ++j) X[j] = kx[j][b];
+        EdgeMatrix(X, C, A, detC);
+        for (int j = 0; j < 9; ++j) kc[j][b] = C[j], kA[j][b] = A[j];
+        kJ[b] = detC * kI[b];
+      }
+      Model::PrepareBlock(kJ, kP[0], kP[1], nb); // inverted elements too: their forces are dropped
+      if (nb == 0) break;
+      for (std::size_t b = 0; b < nb; ++b) {
+        double C[9], A[9], Xi[9], pre[2] = {kP[0][b], kP[1][b]}, F[9], T[6], fe[12];
+        const double D[6] = {0, 0, 0, 0, 0, 0};
+        for (int j = 0; j < 9; ++j) C[j] = kc[j][b], A[j] = kA[j][b], Xi[j] = kX[j][b];
+        DeformationGradient(C, Xi, F);
+        Model::Stress(cc, F, kJ[b], pre, D, T);
+        NodalForces<Model>(T, A, Xi, kV[b], fe);
+        for (int j = 0; j < 12; ++j) fb[j][b] = fe[j];
+      }
+      for (std::size_t b = 0; b < nb; ++b) {
+        const TetElement &el = elems[i + b];
+        if (!(kJ[b] > 0)) {
+          if (bad < 0) bad = static_cast<std::int64_t>(first + i + b);
+          if (!Model::kSmallStrain) continue;
+        }
+        for (int a = 0; a < 4; ++a) {
+          double *fa = f + 3 * el.n[a];
+          fa[0] += fb[3 * a][b];
+          fa[1] += fb[3 * a + 1][b];
+          fa[2] += fb[3 * a + 2][b];
+        }
+      }
+      i += nb;
+      if (nb < kBlock && i < count && elems[i].material != mat) break;
+      continue;
     }
-    for (int a = 0; a < 4; ++a) {
-      double *fa = f + 3 * el.n[a];
-      fa[0] += fe[3 * a];
-      fa[1] += fe[3 * a + 1];
-      fa[2] += fe[3 * a + 2];
+    for (; nb < kBlock && i + nb < count && elems[i + nb].material == mat; ++nb) Kinematics<Model>(elems[i + nb], x, kin[nb]);
+    if (nb == 0) break;
+    for (std::size_t b = 0; b < nb; ++b) {
+      const TetElement &el = elems[i + b];
+      double T[6], fe[12];
+      const int st = Forces<Model, Visc, false>(el, cc, kin[b], v, T, fe, nullptr);
+      if (st != 0) {
+        if (bad < 0) bad = static_cast<std::int64_t>(first + i + b);
+        if (st == 1) continue;
+      }
+      for (int a = 0; a < 4; ++a) {
+        double *fa = f + 3 * el.n[a];
+        fa[0] += fe[3 * a];
+        fa[1] += fe[3 * a + 1];
+        fa[2] += fe[3 * a + 2];
+      }
     }
+    i += nb;
+    if (nb < kBlock && i < count && elems[i].material != mat) break;
   }
+  *done = i;
   return bad;
 }
 
 template <class Model>
 void StressPoint(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
-  Model::Stress(c, F, J, D, T);
+  double pre[2] = {0, 0};
+  if (Model::kSmallStrain || J > 0) Model::Prepare(J, pre);
+  Model::Stress(c, F, J, pre, D, T);
 }
 
 // Kinematics, stress and nodal forces of one element into a TetState (false if skipped).
@@ -306,15 +433,15 @@ std::int64_t ComputeInternalForces(const ElementData &data, const double *x, con
   const TetElement *E = data.elems.data();
   std::size_t i = begin;
   while (i < end) {
-    // Run of elements sharing a material: one tight loop per run.
+    // Run of elements sharing a material: one tight loop per run, which finds
+    // the run's end itself (a separate scan read the element array twice).
     const int m = E[i].material;
-    std::size_t j = i + 1;
-    while (j < end && E[j].material == m) ++j;
     const MaterialModel &mm = models[data.materials[m].model];
+    std::size_t done = 0;
     const std::int64_t bad =
-        (v ? mm.batch : mm.batch_no_visc)(E + i, i, j - i, data.coeffs[m], x, v, f);
+        (v ? mm.batch : mm.batch_no_visc)(E + i, i, end - i, data.coeffs[m], x, v, f, &done);
     if (bad >= 0 && first_bad < 0) first_bad = bad;
-    i = j;
+    i += done;
   }
   return first_bad;
 }

@@ -5,6 +5,8 @@
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
+#include <fdem/ts.h>
+
 #include <cstdint>
 
 using namespace fdem::model::deformable;
@@ -12,17 +14,41 @@ using namespace fdem::model::deformable;
 PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *fo) {
   PetscScalar *xl, *vl = nullptr, *fl;
   PetscFunctionBegin;
-  PetscCall(VecPlaceArray(d->gwork, xo));
-  PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->xloc));
-  PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->xloc));
-  PetscCall(VecResetArray(d->gwork));
-  const bool use_v = vo && d->viscous;
-  if (vo) {
-    PetscCall(VecPlaceArray(d->gwork, vo));
-    PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->vloc));
-    PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->vloc));
+  // One rank with local = owned nodes (d->local_is_owned): xloc, vloc and floc
+  // are placed on xo, vo and fo (read in place, forces summed straight into
+  // fo: the same sums as the scatter/ADD path, which copies x and adds f
+  // into zeros). Otherwise: scatter to the local vectors and assemble back.
+  const bool inplace = d->local_is_owned;
+  // resets the placed arrays on every way out, an error of a hook included
+  struct Placed {
+    Vec  v[3] = {nullptr, nullptr, nullptr};
+    ~Placed() {
+      for (Vec w : v)
+        if (w) (void)VecResetArray(w);
+    }
+  } placed;
+  if (inplace) {
+    PetscCall(VecPlaceArray(d->xloc, xo));
+    placed.v[0] = d->xloc;
+    if (vo) {
+      PetscCall(VecPlaceArray(d->vloc, vo));
+      placed.v[1] = d->vloc;
+    }
+    PetscCall(VecPlaceArray(d->floc, fo));
+    placed.v[2] = d->floc;
+  } else {
+    PetscCall(VecPlaceArray(d->gwork, xo));
+    PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->xloc));
+    PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->xloc));
     PetscCall(VecResetArray(d->gwork));
+    if (vo) {
+      PetscCall(VecPlaceArray(d->gwork, vo));
+      PetscCall(DMGlobalToLocalBegin(d->dm, d->gwork, INSERT_VALUES, d->vloc));
+      PetscCall(DMGlobalToLocalEnd(d->dm, d->gwork, INSERT_VALUES, d->vloc));
+      PetscCall(VecResetArray(d->gwork));
+    }
   }
+  const bool use_v = vo && d->viscous;
   PetscCall(VecSet(d->floc, 0));
   PetscCall(VecGetArray(d->xloc, &xl));
   if (use_v) PetscCall(VecGetArray(d->vloc, &vl));
@@ -50,6 +76,7 @@ PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscRe
   if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));
   for (const auto &e : d->ext) PetscCall(e.first(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, e.second));
+  if (inplace) PetscFunctionReturn(0); // the sums are in fo already
   PetscCall(VecPlaceArray(d->gwork, fo));
   PetscCall(VecSet(d->gwork, 0));
   PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, d->gwork));
@@ -157,6 +184,7 @@ PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable d, TS ts, Vec *U) {
   PetscCall(ISDestroy(&isp));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "position", nullptr, RHSPosition, d));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, d));
+  PetscCall(FDEMTSSetPositionRHSIdentity(ts, PETSC_TRUE)); // RHSPosition: dX = V
   PetscCall(TSSetSolution(ts, *U));
   d->ts = ts;
   PetscFunctionReturn(0);

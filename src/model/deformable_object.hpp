@@ -69,6 +69,10 @@ struct _n_FDEMDeformable {
   bool                       moved = false; // some node has a nonzero held velocity
   fdem::model::WorkMeter     meter; // work of the reactions on moved nodes
   bool                       viscous = false;
+  // one rank whose local nodes are its owned nodes in the same order: the
+  // local vectors are then the global ones, and the force evaluation works
+  // on the state and the result in place (no scatter, no assembly pass)
+  bool                       local_is_owned = false;
   Vec                        x = nullptr, v = nullptr, X = nullptr, m = nullptr, minv = nullptr;
   Vec                        xloc = nullptr, vloc = nullptr, floc = nullptr, gwork = nullptr;
   TS                         ts = nullptr; // the TS of FDEMDeformableSetUpTS (not referenced)

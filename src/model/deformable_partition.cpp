@@ -84,9 +84,46 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
   PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  // local cells, sorted by material then global id (the kernel's order)
+  const PetscInt        nc = cEnd - cStart;
+  std::vector<PetscInt> order(nc);
+  std::iota(order.begin(), order.end(), 0);
+  auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };
+  std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) {
+    const int ma = matof(a), mb = matof(b);
+    return ma != mb ? ma < mb : orig[cStart + a] < orig[cStart + b];
+  });
   PetscCall(PetscSectionCreate(d->comm, &s));
   PetscCall(PetscSectionSetChart(s, pStart, pEnd));
   for (PetscInt p = vStart; p < vEnd; ++p) PetscCall(PetscSectionSetDof(s, p, 3));
+  if (d->size > 1) {
+    // Distributed: number the vertices in the order the sorted cells first
+    // use them, so that the kernel's gathers and sums run through the node
+    // vectors nearly in order (DMPlex's migrated numbering scatters them).
+    // One rank keeps the input order (and its outputs byte for byte).
+    std::vector<PetscInt> perm;
+    std::vector<char>     seen(vEnd - vStart, 0);
+    perm.reserve(pEnd - pStart);
+    for (PetscInt p = pStart; p < pEnd; ++p)
+      if (p < vStart || p >= vEnd) perm.push_back(p - pStart);
+    for (PetscInt i = 0; i < nc; ++i) {
+      const PetscInt *cone;
+      PetscInt        csize;
+      PetscCall(DMPlexGetConeSize(dm, cStart + order[i], &csize));
+      PetscCall(DMPlexGetCone(dm, cStart + order[i], &cone));
+      for (PetscInt k = 0; k < csize; ++k)
+        if (cone[k] >= vStart && cone[k] < vEnd && !seen[cone[k] - vStart]) {
+          seen[cone[k] - vStart] = 1;
+          perm.push_back(cone[k] - pStart);
+        }
+    }
+    for (PetscInt v = vStart; v < vEnd; ++v)
+      if (!seen[v - vStart]) perm.push_back(v - pStart);
+    IS isperm;
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, (PetscInt)perm.size(), perm.data(), PETSC_COPY_VALUES, &isperm));
+    PetscCall(PetscSectionSetPermutation(s, isperm));
+    PetscCall(ISDestroy(&isperm));
+  }
   PetscCall(PetscSectionSetUp(s));
   PetscCall(DMSetLocalSection(dm, s));
   PetscCall(PetscSectionDestroy(&s));
@@ -129,17 +166,8 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
     }
   }
   PetscCall(VecRestoreArrayRead(coords, &ca));
-  // local cells, sorted by material then global id
-  const PetscInt                  nc = cEnd - cStart;
-  std::vector<PetscInt>           order(nc);
   std::vector<std::array<int, 4>> tets(nc);
   std::vector<int>                tmat(nc), tbody(nc);
-  std::iota(order.begin(), order.end(), 0);
-  auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };
-  std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) {
-    const int ma = matof(a), mb = matof(b);
-    return ma != mb ? ma < mb : orig[cStart + a] < orig[cStart + b];
-  });
   d->cell_gid.resize(nc);
   for (PetscInt i = 0; i < nc; ++i) {
     const PetscInt  c = cStart + order[i];
@@ -199,6 +227,8 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(VecReciprocal(d->minv));
   d->fixed.assign(d->nown, 0);
   d->vfix.assign(3 * d->nown, 0);
+  d->local_is_owned = d->size == 1 && d->nlocal == d->nown;
+  for (PetscInt k = 0; d->local_is_owned && k < d->nown; ++k) d->local_is_owned = d->owned_local[k] == k;
   PetscFunctionReturn(0);
 }
 

@@ -21,6 +21,9 @@ struct DriftLink {
   FDEMDriftFn fn;
   void       *ctx;
 };
+struct IdentityLink {
+  PetscBool on;
+};
 struct JvpLink {
   FDEMJacobianProductFn fn;
   void                 *ctx;
@@ -269,6 +272,11 @@ PetscErrorCode CommonSetUp(TS ts, Common *c, PetscBool need_default_drift) {
     PetscCall(QueryLink(ts, "FDEMTSDrift", &drift));
     c->drift     = drift ? drift->fn : nullptr;
     c->drift_ctx = drift ? drift->ctx : nullptr;
+    {
+      IdentityLink *idl;
+      PetscCall(QueryLink(ts, "FDEMTSPositionRHSIdentity", &idl));
+      c->velocity_identity = (PetscBool)(idl && idl->on && !c->drift);
+    }
     PetscCall(QueryLink(ts, "FDEMTSJacobianProduct", &jvp));
     c->jvp     = jvp ? jvp->fn : nullptr;
     c->jvp_ctx = jvp ? jvp->ctx : nullptr;
@@ -375,17 +383,23 @@ PetscErrorCode Force(TS, Common *c, PetscReal t, Vec q, Vec f) {
 
 PetscErrorCode Velocity(TS, Common *c, PetscReal t, Vec p, Vec dq) {
   PetscFunctionBegin;
-  PetscCall(TSComputeRHSFunction(c->subts_q, t, p, dq));
+  if (c->velocity_identity) PetscCall(VecCopy(p, dq));
+  else PetscCall(TSComputeRHSFunction(c->subts_q, t, p, dq));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DriftDefault(TS ts, Common *c, PetscReal t, PetscReal s, Vec q, Vec p, PetscBool last) {
   PetscFunctionBegin;
-  PetscCall(Velocity(ts, c, t, p, c->q_work));
+  // with F_q(p) = p the copy into q_work is skipped: the same AXPY reads p
+  Vec dq = p;
+  if (!c->velocity_identity) {
+    PetscCall(Velocity(ts, c, t, p, c->q_work));
+    dq = c->q_work;
+  }
   if (last) {
-    PetscCall(AXPYScan(c, q, s, c->q_work));
+    PetscCall(AXPYScan(c, q, s, dq));
     c->scanned_q = c->check_step;
-  } else PetscCall(VecAXPY(q, s, c->q_work));
+  } else PetscCall(VecAXPY(q, s, dq));
   PetscFunctionReturn(0);
 }
 
@@ -710,6 +724,13 @@ PetscErrorCode FDEMTSSetDrift(TS ts, FDEMDriftFn drift, void *ctx) {
   PetscFunctionBegin;
   PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
   PetscCall(ComposeLink(ts, "FDEMTSDrift", DriftLink{drift, ctx}, drift == nullptr));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMTSSetPositionRHSIdentity(TS ts, PetscBool flg) {
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+  PetscCall(ComposeLink(ts, "FDEMTSPositionRHSIdentity", IdentityLink{flg}, !flg));
   PetscFunctionReturn(0);
 }
 

@@ -44,6 +44,7 @@ struct Common {
   PetscInt         check_interval = 10;         // steps between Inf/NaN checks
   PetscInt         steps_unchecked = 0;
   FDEMDriftFn      drift = nullptr;
+  PetscBool        velocity_identity = PETSC_FALSE; // F_q(p) = p (FDEMTSSetPositionRHSIdentity)
   void            *drift_ctx = nullptr;
   FDEMJacobianProductFn jvp = nullptr;
   void            *jvp_ctx = nullptr;

@@ -117,8 +117,12 @@ std::vector<double> NodalMasses(const ElementData &data, std::size_t n_nodes);
 // partition weight) plus one row in src/kernels/materials/table.hpp, from which
 // this table (its functions and its instantiations of the batched loop) is
 // built; see doc/architecture.md.
+// A batch runs over elems[0, count) while the material stays that of elems[0]
+// (the run is found on the way, in the cache lines the loop reads anyway) and
+// stores in *done how many elements it took (>= 1).
 using BatchFn = std::int64_t (*)(const TetElement *elems, std::size_t first, std::size_t count,
-                                 const MaterialCoeffs &c, const double *x, const double *v, double *f);
+                                 const MaterialCoeffs &c, const double *x, const double *v, double *f,
+                                 std::size_t *done);
 // F row-major, D = (xx, yy, zz, xy, yz, xz), T likewise.
 using StressFn = void (*)(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T);
 // Strain energy per reference volume at deformation gradient F (NaN if undefined).

@@ -22,13 +22,20 @@ struct MunjizaCST {
   static constexpr bool kSmallStrain = false;
   // Relative cost in the internal-force kernel (bench/cst_kernel): the METIS element weight.
   static constexpr int kCost = 2;
+  // The scalar functions of J that Stress needs, computed by Prepare apart
+  // from Stress so that the kernel can run them for a block of elements at
+  // once (independent chains overlap in the pipeline): pre[0] = J^(-1/3).
+  static constexpr int kPre = 1;
+  static inline void Prepare(double J, double *pre) { pre[0] = InvCbrt(J); }
+  // The same for n elements: pre0[b], pre1[b] from J[b] (the same values).
+  static inline void PrepareBlock(const double *J, double *pre0, double * /*pre1*/, std::size_t n) { InvCbrtBlock(J, pre0, n); }
   // Symmetric tensors are stored as (xx, yy, zz, xy, yz, xz); F row-major.
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *pre, const double *D, double *T) {
     double B[6];
     LeftCauchyGreen(F, B);
     const double B0 = B[0], B1 = B[1], B2 = B[2], B3 = B[3], B4 = B[4], B5 = B[5];
-    const double cj = std::cbrt(J);
-    const double j23 = cj * cj, ij23 = 1.0 / j23;
+    const double w3 = pre[0];                                   // J^(-1/3)
+    const double j23 = J * w3, ij23 = w3 * w3;
     const double a = 0.5 * c.c_dev * ij23;                      // E/(1+nu) * (1/2) / J^(2/3)
     const double aB = a * ij23;                                  // ... times B / J^(2/3)
     const double s = 0.5 * c.c_vol * (j23 - 1.0) * ij23 - a;     // volumetric part and the -I of Ed

@@ -15,13 +15,23 @@ struct NeoHookean {
   static constexpr const char *kName = "neo_hookean";
   static constexpr bool kSmallStrain = false;
   static constexpr int kCost = 2; // relative kernel cost (bench/cst_kernel), the METIS element weight
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *D, double *T) {
+  // pre[0] = J^(-1/3), pre[1] = 1/J (see MunjizaCST::Prepare)
+  static constexpr int kPre = 2;
+  static inline void Prepare(double J, double *pre) {
+    pre[0] = InvCbrt(J);
+    pre[1] = 1.0 / J;
+  }
+  static inline void PrepareBlock(const double *J, double *pre0, double *pre1, std::size_t n) {
+    InvCbrtBlock(J, pre0, n);
+    for (std::size_t b = 0; b < n; ++b) pre1[b] = 1.0 / J[b];
+  }
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double J, const double *pre, const double *D, double *T) {
     double B[6];
     LeftCauchyGreen(F, B);
     const double B0 = B[0], B1 = B[1], B2 = B[2], B3 = B[3], B4 = B[4], B5 = B[5];
-    const double cj = std::cbrt(J);
-    const double iJ = 1.0 / J;
-    const double g = c.G * iJ / (cj * cj);  // G / J * J^(-2/3)
+    const double w3 = pre[0];  // J^(-1/3)
+    const double iJ = pre[1];
+    const double g = c.G * iJ * (w3 * w3);  // G / J * J^(-2/3)
     const double tr3 = (B0 + B1 + B2) * (1.0 / 3.0);
     const double p = 0.5 * c.K * (J - iJ) - g * tr3;
     const double w = c.c_visc;

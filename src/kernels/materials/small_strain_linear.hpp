@@ -12,7 +12,10 @@ struct SmallStrainLinear {
   static constexpr const char *kName = "small_strain_linear";
   static constexpr bool kSmallStrain = true;
   static constexpr int kCost = 1; // relative kernel cost (bench/cst_kernel), the METIS element weight
-  static inline void Stress(const MaterialCoeffs &c, const double *F, double /*J*/, const double *D, double *T) {
+  static constexpr int kPre = 0; // no scalar functions of J (see MunjizaCST::Prepare)
+  static inline void Prepare(double, double *) {}
+  static inline void PrepareBlock(const double *, double *, double *, std::size_t) {}
+  static inline void Stress(const MaterialCoeffs &c, const double *F, double /*J*/, const double * /*pre*/, const double *D, double *T) {
     const double e0 = F[0] - 1.0, e1 = F[4] - 1.0, e2 = F[8] - 1.0;
     const double G2 = 2.0 * c.G, lt = c.lambda * (e0 + e1 + e2), w = c.c_visc;
     T[0] = G2 * e0 + lt + w * D[0];
