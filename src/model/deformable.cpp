@@ -173,7 +173,7 @@ static PetscErrorCode SetField(FDEMDeformable d, Vec target, FDEMDeformableField
   PetscCall(VecGetArray(target, &t));
   for (PetscInt k = 0; k < d->nown; ++k) {
     PetscReal in[3] = {Xa[3 * k], Xa[3 * k + 1], Xa[3 * k + 2]}, out[3] = {0, 0, 0};
-    PetscCall(fn(d->owned_input.empty() ? d->owned_gid[k] : d->owned_input[k], in, out, ctx)); // the input mesh's id
+    PetscCall(fn(d->owned_input[k], in, out, ctx)); // the input mesh's id
     if (velocity && d->fixed[k])
       for (int c = 0; c < 3; ++c) out[c] = d->vfix[3 * k + c];
     for (int c = 0; c < 3; ++c) t[3 * k + c] = out[c];
@@ -212,7 +212,7 @@ static PetscErrorCode FinishFix(FDEMDeformable d, PetscInt *nfixed) {
   PetscFunctionReturn(0);
 }
 
-// Fixes (vel = NULL) or moves (held velocity vel) the nodes listed on any rank; *nset: how many nodes are listed.
+// Fixes (vel = NULL) or moves (held velocity vel) the nodes listed on any rank (input ids); *nset: how many nodes that holds.
 static PetscErrorCode HoldNodes(FDEMDeformable d, const char *fn, PetscInt n, const PetscInt ids[], const PetscReal vel[3], PetscInt *nset) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, fn));
@@ -224,28 +224,18 @@ static PetscErrorCode HoldNodes(FDEMDeformable d, const char *fn, PetscInt n, co
   std::vector<PetscInt> all(displs[d->size - 1] + counts[d->size - 1]);
   PetscCallMPI(MPI_Allgatherv(ids, ln, MPIU_INT, all.data(), counts.data(), displs.data(), MPIU_INT, d->comm));
   // ids are the input mesh's: with fracturable bodies, an input node stands for all its copies
-  const bool     split  = !d->owned_input.empty();
-  const PetscInt ninput = split ? d->ninput_nodes : d->nnodes_global;
-  PetscInt       bad = -1, gbad, mine = 0;
+  PetscInt bad = -1, gbad, mine = 0;
   for (PetscInt id : all)
-    if (id < 0 || id >= ninput) bad = PetscMax(bad, id < 0 ? PETSC_MAX_INT : id);
-  auto hold = [&](PetscInt k) {
+    if (id < 0 || id >= d->ninput_nodes) bad = PetscMax(bad, id < 0 ? PETSC_MAX_INT : id);
+  std::sort(all.begin(), all.end());
+  for (PetscInt k = 0; k < d->nown; ++k) {
+    if (!std::binary_search(all.begin(), all.end(), d->owned_input[k])) continue;
     d->fixed[k] = 1;
     for (int c = 0; c < 3; ++c) d->vfix[3 * k + c] = vel ? vel[c] : 0;
     ++mine;
-  };
-  if (split) {
-    std::sort(all.begin(), all.end());
-    for (PetscInt k = 0; k < d->nown; ++k)
-      if (std::binary_search(all.begin(), all.end(), d->owned_input[k])) hold(k);
-  } else {
-    for (PetscInt id : all) {
-      auto it = d->owned_of_gid.find(id);
-      if (it != d->owned_of_gid.end()) hold(it->second);
-    }
   }
   PetscCallMPI(MPI_Allreduce(&bad, &gbad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(gbad < 0, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: node id %" PetscInt_FMT " is not in [0, %" PetscInt_FMT ")", fn, gbad == PETSC_MAX_INT ? -1 : gbad, ninput);
+  PetscCheck(gbad < 0, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: node id %" PetscInt_FMT " is not in [0, %" PetscInt_FMT ")", fn, gbad == PETSC_MAX_INT ? -1 : gbad, d->ninput_nodes);
   if (vel && (vel[0] != 0 || vel[1] != 0 || vel[2] != 0)) d->moved = true;
   if (nset) PetscCallMPI(MPI_Allreduce(&mine, nset, 1, MPIU_INT, MPI_SUM, d->comm));
   PetscFunctionReturn(0);

@@ -79,8 +79,11 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
   d->njoints_global = nj;
-  d->owned_input.clear();
-  if (sizes[1] == 0) PetscFunctionReturn(0); // nothing was split
+  if (sizes[1] == 0) { // nothing was split: every node is its own input node
+    d->owned_input  = d->owned_gid;
+    d->ninput_nodes = d->nnodes_global;
+    PetscFunctionReturn(0);
+  }
   PetscCallMPI(MPI_Bcast(&d->joint_omega, 1, MPIU_REAL, 0, d->comm));
   // where every node and cell went: (rank, local index) gathered on rank 0
   const PetscMPIInt      size = d->size;

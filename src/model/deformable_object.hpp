@@ -82,8 +82,8 @@ struct _n_FDEMDeformable {
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
-  std::vector<PetscInt>                   owned_input;    // split meshes: the input node of each owned node (FixNodes/MoveNodes ids)
-  PetscInt                                ninput_nodes = 0; // split meshes: nodes of the input mesh
+  std::vector<PetscInt>                   owned_input;    // the input node of each owned node (FixNodes/MoveNodes/field ids; owned_gid unless split)
+  PetscInt                                ninput_nodes = 0; // nodes of the input mesh
   PetscInt                                njoints_global = 0;
   PetscReal                               joint_omega = 0;    // the joints' largest frequency (estimate), 1/s
   TS                                      joint_checked = nullptr; // the TS whose time step was checked against it
