@@ -372,9 +372,11 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     b.contact += e;
   }
   if (s.dfm) {
-    PetscReal k, str, g;
+    PetscReal k, str, g, stored;
     PetscCall(FDEMDeformableGetEnergy(s.dfm, nullptr, &k, &str, &g));
+    PetscCall(FDEMDeformableGetJointEnergy(s.dfm, nullptr, &stored, &b.fracture));
     b.gravity += g;
+    b.strain += stored; // the joints' recoverable energy is strain energy of the body
   }
   if (s.rb) {
     DM         sw;
@@ -398,7 +400,7 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     b.gravity += glob;
   }
   PetscCall(ExternalWork(s, &b.external_work));
-  b.total = b.kinetic + b.strain + b.contact + b.gravity;
+  b.total = b.kinetic + b.strain + b.contact + b.gravity + b.fracture;
   if (!s.have_E0) {
     s.E0      = b.total;
     s.have_E0 = true;
@@ -519,6 +521,7 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
     PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecView(p.ndx, v));
     PetscCall(VecView(p.ndv, v));
+    PetscCall(FDEMDeformableViewJointState(s.dfm, v));
   }
   if (s.rb) {
     PetscCall(RigidFields(s, p.r, true));
@@ -560,6 +563,7 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
     PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(FDEMDeformableLoadJointState(s.dfm, v));
   }
   if (s.rb) {
     PetscCall(VecLoad(p.nr, v));

@@ -22,7 +22,7 @@ namespace fdem::driver {
 
 // One row of out/balance.csv (see doc/scenes.md).
 struct Balance {
-  double t = 0, kinetic = 0, strain = 0, contact = 0, gravity = 0, external_work = 0, dissipated = 0, total = 0, P[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+  double t = 0, kinetic = 0, strain = 0, contact = 0, gravity = 0, fracture = 0, external_work = 0, dissipated = 0, total = 0, P[3] = {0, 0, 0}, L[3] = {0, 0, 0};
 };
 
 // What limits the time step.

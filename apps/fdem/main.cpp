@@ -37,7 +37,8 @@ d = sys.argv[1]
 rows = list(csv.DictReader(open(d + "/balance.csv")))
 t = [float(r["time"]) for r in rows]
 fig, ax = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
-for k in ["kinetic", "strain", "contact", "gravity", "external_work", "dissipated", "total"]:
+for k in ["kinetic", "strain", "contact", "gravity", "fracture", "external_work", "dissipated", "total"]:
+    if k == "fracture" and not any(float(r[k]) != 0 for r in rows): continue
     ax[0].plot(t, [float(r[k]) for r in rows], label=k, lw=2 if k == "total" else 1)
 ax[0].set_ylabel("energy (J)"); ax[0].legend(fontsize=8); ax[0].grid(alpha=.3)
 for k in ["px", "py", "pz"]:

@@ -91,7 +91,7 @@ PetscErrorCode WriteSceneXdmf(MPI_Comm comm, const std::string &dir, const std::
 PetscErrorCode WriteBalanceRow(FILE *fp, const Balance &b) {
   PetscFunctionBeginUser;
   if (fp) {
-    std::fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", b.t, b.kinetic, b.strain, b.contact, b.gravity, b.external_work, b.dissipated, b.total, b.P[0], b.P[1], b.P[2], b.L[0], b.L[1], b.L[2]);
+    std::fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", b.t, b.kinetic, b.strain, b.contact, b.gravity, b.fracture, b.external_work, b.dissipated, b.total, b.P[0], b.P[1], b.P[2], b.L[0], b.L[1], b.L[2]);
     std::fflush(fp);
   }
   PetscFunctionReturn(0);
@@ -304,7 +304,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const PetscInt nbodies = (PetscInt)sc.bodies.size();
   PetscCall(PetscPrintf(comm, "%s%s%s: %d bodies (%d rigid, %d deformable), %" PetscInt_FMT " tetrahedra, %" PetscInt_FMT " nodes (%" PetscInt_FMT " fixed, %" PetscInt_FMT " moved), %" PetscInt_FMT " degrees of freedom, %d ranks\n", sc.file.c_str(),
                         sc.title.empty() ? "" : " -- ", sc.title.c_str(), (int)nbodies, (int)s.rigid_bodies.size(), (int)s.deformable_bodies.size(), s.ntets, s.nnodes, s.nfixed_nodes, s.nmoved_nodes, s.ndofs, (int)size));
-  if (s.njoints > 0) PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own; %" PetscInt_FMT " nodes after the split); balance.csv does not count the joints' energy yet\n", s.njoints, s.nnodes));
+  if (s.njoints > 0) PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated\n", s.njoints, s.nnodes));
   const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
   char         wj[64] = "";
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
@@ -350,7 +350,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
       bal                    = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
       PetscCheck(bal, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/balance.csv", dir.c_str());
-      if (head) std::fprintf(bal, "time,kinetic,strain,contact,gravity,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
+      if (head) std::fprintf(bal, "time,kinetic,strain,contact,gravity,fracture,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
     }
   }
   // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
@@ -430,8 +430,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const PetscInt ran = step - prog.step0; // steps of this run (a restart starts at the checkpoint's)
   PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps (to step %" PetscInt_FMT "); wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.2f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, ran, step,
                         w1 - w0, wbuild - w0, run, run > 0 ? ran / run : 0.0, run > 0 ? ran * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? ran * (double)nbodies / (maxcpu * size) : 0.0));
-  PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
-                        b.dissipated, maxdP));
+  PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g, fracture %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
+                        b.fracture, b.dissipated, maxdP));
   PetscCall(PrintTimeSummary(comm, run));
   PetscCall(PrintContactSummary(s, nbodies));
   if (write)

@@ -83,17 +83,28 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
    (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field
    callbacks still use the input mesh's ids (an input node stands for all its copies), while node ids and
    counts that the library reports are those of the split mesh. Joints that straddle
-   ranks are computed by the rank of one side. Not yet: broken joints as contact surfaces, fragments, joint energy in
-   GetEnergy, joint state in checkpoints. */
+   ranks are computed by the rank of one side. Not yet: broken joints as contact surfaces, fragments. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
-/* After set-up: the number of joints, of joints broken at all three points, and the
-   largest damage reached (collective). */
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at
    the first evaluation of a TS (the limit measured in test_fracture_bar: doc/fracture.md). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm, PetscReal *omega);
+/* After set-up: the number of joints, of joints broken at all three points, and the
+   largest damage reached (collective). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
+/* The joints' energy (collective; each output may be NULL): `stored`, the recoverable
+   energy of the joints at the state U (NULL: the stored positions), the free energy whose
+   derivatives are the joint tractions; `dissipated`, the energy their damage has
+   dissipated so far (the fracture energy spent; it never decreases). The work done on
+   the joints is stored + dissipated (doc/fracture.md, "Energy"). Both 0 without joints. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable dfm, Vec U, PetscReal *stored, PetscReal *dissipated);
+/* Writes (loads) the joints' state to (from) a viewer, e.g. an HDF5 file: `joint_damage`,
+   3 damages per joint in the split's joint order (1 = broken; independent of the rank
+   count), and `joint_dissipated` (1 value). Loading checks the size and the range and names
+   the first bad joint. Nothing is written or read without joints. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable dfm, PetscViewer viewer);
+PETSC_EXTERN PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable dfm, PetscViewer viewer);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
 /* Force terms chain: each added function adds its nodal forces to floc at every force
    evaluation, in the order added (a user's load, contact, ...); none replaces another.

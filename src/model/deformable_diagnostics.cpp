@@ -8,10 +8,8 @@ using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 using namespace fdem::model::deformable;
 
-namespace {
-
 // positions of all local nodes at a state
-PetscErrorCode LocalPositions(FDEMDeformable d, const PetscScalar *xo, const PetscScalar *vo) {
+PetscErrorCode fdem::model::deformable::LocalPositions(FDEMDeformable d, const PetscScalar *xo, const PetscScalar *vo) {
   PetscFunctionBegin;
   PetscCall(VecPlaceArray(d->gwork, xo));
   PetscCall(DMGlobalToLocal(d->dm, d->gwork, INSERT_VALUES, d->xloc));
@@ -23,8 +21,6 @@ PetscErrorCode LocalPositions(FDEMDeformable d, const PetscScalar *xo, const Pet
   }
   PetscFunctionReturn(0);
 }
-
-} // namespace
 
 PetscErrorCode FDEMDeformableComputeCellStress(FDEMDeformable d, Vec U, Vec *S) {
   StateView    sv;

@@ -90,6 +90,8 @@ struct _n_FDEMDeformable {
   std::vector<std::array<int, 3>>         jnode_a;        // this rank's joints: local nodes of triangle a
   std::vector<fdem::kernels::JointLaw>    jlaw;           // their laws
   std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
+  std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
+  PetscReal                               jdissipated = 0; // energy dissipated by this rank's joints so far, J
   PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
   std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
 };
@@ -121,6 +123,10 @@ PetscErrorCode SetUpJoints(FDEMDeformable d);
 // evaluation of a TS, warns when its time step is near the joints' limit (collective).
 PetscErrorCode AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl);
 PetscErrorCode DestroyJoints(FDEMDeformable d);
+
+// Owned positions xo (and velocities vo, may be null) into the local vectors xloc
+// (vloc), ghosts included (deformable_diagnostics.cpp).
+PetscErrorCode LocalPositions(FDEMDeformable d, const PetscScalar *xo, const PetscScalar *vo);
 
 // det F of element el at local positions x.
 inline double ElementJ(const fdem::kernels::TetElement &el, const double *x) {
