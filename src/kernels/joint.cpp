@@ -1,5 +1,4 @@
-// The cohesive law of a fracture joint; see fdem/kernels/joint.hpp and
-// doc/fracture.md.
+// The cohesive law of a fracture joint; see fdem/kernels/joint.hpp and doc/fracture.md.
 #include <fdem/kernels/joint.hpp>
 
 #include <algorithm>
@@ -23,8 +22,7 @@ double JointSofteningIntegral() {
   static const double Z = [] {
     const int n = 4096; // even
     double s = JointSoftening(0) + JointSoftening(1);
-    for (int i = 1; i < n; ++i)
-      s += (i % 2 ? 4.0 : 2.0) * JointSoftening((double)i / n);
+    for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * JointSoftening((double)i / n);
     return s / (3.0 * n);
   }();
   return Z;
@@ -38,54 +36,36 @@ std::string Num(double v) {
 }
 // Critical value from the peak value, the strength and the energy: the whole
 // area (2/3 strength peak + strength (crit - peak) Z) equals the energy.
-double Critical(double peak, double strength, double G) {
-  return peak + (G - 2.0 / 3.0 * strength * peak) /
-                    (strength * JointSofteningIntegral());
-}
+double Critical(double peak, double strength, double G) { return peak + (G - 2.0 / 3.0 * strength * peak) / (strength * JointSofteningIntegral()); }
 // The hardening shape: 2x - x^2 up to the peak (x = 1), then 1.
 double Hardening(double x) { return x < 1 ? x * (2.0 - x) : 1.0; }
 // Its integral from 0 to x: x^2 - x^3/3 up to the peak, then 2/3 + (x - 1).
-double HardeningIntegral(double x) {
-  return x < 1 ? x * x * (1.0 - x / 3.0) : x - 1.0 / 3.0;
-}
-// The normal branch without damage at opening dn: penalty in compression,
-// hardening in tension.
-double NormalUndamaged(const JointLaw &L, double dn) {
-  return dn <= 0 ? 2.0 * L.ft * dn / L.dn_peak
-                 : L.ft * Hardening(dn / L.dn_peak);
-}
-// The shear strength at that normal traction (Mohr-Coulomb; only compression
-// adds friction).
-double ShearStrength(const JointLaw &L, double sigma0) {
-  return std::max(L.c - std::min(sigma0, 0.0) * L.tan_phi, 0.0);
-}
+double HardeningIntegral(double x) { return x < 1 ? x * x * (1.0 - x / 3.0) : x - 1.0 / 3.0; }
+// The normal branch without damage at opening dn: penalty in compression, hardening in tension.
+double NormalUndamaged(const JointLaw &L, double dn) { return dn <= 0 ? 2.0 * L.ft * dn / L.dn_peak : L.ft * Hardening(dn / L.dn_peak); }
+// The shear strength at that normal traction (Mohr-Coulomb; only compression adds friction).
+double ShearStrength(const JointLaw &L, double sigma0) { return std::max(L.c - std::min(sigma0, 0.0) * L.tan_phi, 0.0); }
 // The part of psi that z(D) scales (J/m^2): the tension and shear terms.
 double SoftenedEnergy(const JointLaw &L, double dn, double s, double sigma0) {
   const double fs = ShearStrength(L, sigma0), sp = 2.0 * L.h * fs / L.penalty;
-  double e =
-      dn > 0 ? L.ft * L.dn_peak * HardeningIntegral(dn / L.dn_peak) : 0.0;
-  if (sp > 0)
-    e += fs * sp * HardeningIntegral(s / sp);
+  double e = dn > 0 ? L.ft * L.dn_peak * HardeningIntegral(dn / L.dn_peak) : 0.0;
+  if (sp > 0) e += fs * sp * HardeningIntegral(s / sp);
   return e;
 }
 } // namespace
 
 double JointStoredEnergy(const JointLaw &L, double dn, double s, double D) {
-  if (D >= 1)
-    return 0;
+  if (D >= 1) return 0;
   s = std::fabs(s);
   const double sigma0 = NormalUndamaged(L, dn);
-  const double z = D > 0 ? JointSoftening(D) : 1.0;
-  return (dn < 0 ? L.ft * dn * dn / L.dn_peak : 0.0) +
-         z * SoftenedEnergy(L, dn, s, sigma0);
+  const double z      = D > 0 ? JointSoftening(D) : 1.0;
+  return (dn < 0 ? L.ft * dn * dn / L.dn_peak : 0.0) + z * SoftenedEnergy(L, dn, s, sigma0);
 }
 
 JointLaw MakeJointLaw(const JointMaterial &m, double h) {
   const std::string who = "fracture material '" + m.name + "'";
   auto positive = [&](double v, const char *what) {
-    if (!(v > 0) || !std::isfinite(v))
-      throw InputError(who + ": " + what + " = " + Num(v) +
-                       " must be positive and finite");
+    if (!(v > 0) || !std::isfinite(v)) throw InputError(who + ": " + what + " = " + Num(v) + " must be positive and finite");
   };
   positive(m.tensile_strength, "tensile_strength");
   positive(m.cohesion, "cohesion");
@@ -93,55 +73,37 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h) {
   positive(m.GII, "G_II");
   positive(m.penalty, "joint_penalty");
   if (!(m.friction_angle >= 0 && m.friction_angle < 90))
-    throw InputError(who + ": friction_angle = " + Num(m.friction_angle) +
-                     " degrees must be in [0, 90)");
-  if (!(h > 0) || !std::isfinite(h))
-    throw InputError(who + ": the element size h = " + Num(h) +
-                     " must be positive and finite");
+    throw InputError(who + ": friction_angle = " + Num(m.friction_angle) + " degrees must be in [0, 90)");
+  if (!(h > 0) || !std::isfinite(h)) throw InputError(who + ": the element size h = " + Num(h) + " must be positive and finite");
   JointLaw L;
-  L.ft = m.tensile_strength, L.c = m.cohesion,
-  L.tan_phi = std::tan(m.friction_angle * M_PI / 180.0);
+  L.ft = m.tensile_strength, L.c = m.cohesion, L.tan_phi = std::tan(m.friction_angle * M_PI / 180.0);
   L.GI = m.GI, L.GII = m.GII, L.penalty = m.penalty, L.h = h;
   L.dn_peak = 2.0 * h * L.ft / L.penalty;
   if (2.0 / 3.0 * L.ft * L.dn_peak >= L.GI)
-    throw InputError(who + ": joint_penalty = " + Num(m.penalty) +
-                     " is too small for elements of size " + Num(h) +
-                     ": the peak opening 2 h f_t / p = " + Num(L.dn_peak) +
-                     " m would store 2/3 f_t dn_peak = " +
-                     Num(2.0 / 3.0 * L.ft * L.dn_peak) +
-                     " J/m^2 before softening, more than G_I = " + Num(L.GI) +
-                     "; raise the penalty above " +
-                     Num(4.0 / 3.0 * h * L.ft * L.ft / L.GI) + " Pa");
+    throw InputError(who + ": joint_penalty = " + Num(m.penalty) + " is too small for elements of size " + Num(h) + ": the peak opening 2 h f_t / p = " + Num(L.dn_peak) +
+                     " m would store 2/3 f_t dn_peak = " + Num(2.0 / 3.0 * L.ft * L.dn_peak) + " J/m^2 before softening, more than G_I = " + Num(L.GI) +
+                     "; raise the penalty above " + Num(4.0 / 3.0 * h * L.ft * L.ft / L.GI) + " Pa");
   if (2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty) >= L.GII)
-    throw InputError(who + ": joint_penalty = " + Num(m.penalty) +
-                     " is too small for elements of size " + Num(h) +
-                     " in shear: 2/3 c s_peak = " +
-                     Num(2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty)) +
-                     " J/m^2 exceeds G_II = " + Num(L.GII) +
-                     "; raise the penalty above " +
+    throw InputError(who + ": joint_penalty = " + Num(m.penalty) + " is too small for elements of size " + Num(h) + " in shear: 2/3 c s_peak = " +
+                     Num(2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty)) + " J/m^2 exceeds G_II = " + Num(L.GII) + "; raise the penalty above " +
                      Num(4.0 / 3.0 * h * L.c * L.c / L.GII) + " Pa");
   L.dn_crit = Critical(L.dn_peak, L.ft, L.GI);
   const double sp0 = 2.0 * h * L.c / L.penalty;
-  L.s_span = Critical(sp0, L.c, L.GII) - sp0;
+  L.s_span    = Critical(sp0, L.c, L.GII) - sp0;
   return L;
 }
 
-void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak,
-                     double *s_crit) {
-  // Mohr-Coulomb with tension positive: compression (sigma < 0) raises the
-  // shear strength.
+void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak, double *s_crit) {
+  // Mohr-Coulomb with tension positive: compression (sigma < 0) raises the shear strength.
   const double fs = std::max(L.c - sigma * L.tan_phi, 0.0);
   const double sp = 2.0 * L.h * fs / L.penalty;
-  if (s_peak)
-    *s_peak = sp;
+  if (s_peak) *s_peak = sp;
   // The softening span in slip is that of pure shear (fs = c: energy G_II);
   // under compression the strength, and so the energy to rupture, grow.
-  if (s_crit)
-    *s_crit = sp + L.s_span;
+  if (s_crit) *s_crit = sp + L.s_span;
 }
 
-JointTraction JointTractionAt(const JointLaw &L, double dn, double s,
-                              JointState &state) {
+JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState &state) {
   JointTraction t;
   if (state.broken) {
     t.D = 1;
@@ -150,28 +112,22 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s,
   s = std::fabs(s);
   const double sigma0 = NormalUndamaged(L, dn);
   double sp, sc;
-  JointSlipLimits(L, std::min(sigma0, 0.0), &sp,
-                  &sc); // the friction gain comes from compression
-  const double DI =
-      dn > L.dn_peak ? (dn - L.dn_peak) / (L.dn_crit - L.dn_peak) : 0.0;
+  JointSlipLimits(L, std::min(sigma0, 0.0), &sp, &sc); // the friction gain comes from compression
+  const double DI  = dn > L.dn_peak ? (dn - L.dn_peak) / (L.dn_crit - L.dn_peak) : 0.0;
   const double DII = s > sp ? (s - sp) / (sc - sp) : 0.0;
-  const double D0 = state.D;
+  const double D0  = state.D;
   state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
   t.D = state.D;
-  const double z0 =
-      D0 > 0 ? JointSoftening(D0) : 1.0; // intact joints skip the curve
-  const double z =
-      state.D > D0 ? (state.D >= 1 ? 0.0 : JointSoftening(state.D)) : z0;
-  if (state.D > D0)
-    t.dissipated =
-        (z0 - z) * SoftenedEnergy(L, dn, s, sigma0); // psi(D0) - psi(D) here
+  const double z0 = D0 > 0 ? JointSoftening(D0) : 1.0; // intact joints skip the curve
+  const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : JointSoftening(state.D)) : z0;
+  if (state.D > D0) t.dissipated = (z0 - z) * SoftenedEnergy(L, dn, s, sigma0); // psi(D0) - psi(D) here
   if (state.D >= 1) {
     state.broken = true;
     return t;
   }
-  const double fs = ShearStrength(L, sigma0);
+  const double fs  = ShearStrength(L, sigma0);
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
-  t.tau = sp > 0 ? z * fs * Hardening(s / sp) : 0.0;
+  t.tau   = sp > 0 ? z * fs * Hardening(s / sp) : 0.0;
   return t;
 }
 
@@ -180,86 +136,64 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s,
 namespace fdem::kernels {
 
 namespace {
-// The geometry of a joint element at its three points (the edge midpoints): the
-// unit normal of the mid-surface, each point's weight (a third of its area),
-// opening, slip vector and slip. false when the mid-surface has collapsed (it
-// carries nothing).
+// The geometry of a joint element at its three points (the edge midpoints): the unit
+// normal of the mid-surface, each point's weight (a third of its area), opening, slip
+// vector and slip. false when the mid-surface has collapsed (it carries nothing).
 struct JointPoints {
   double n[3], w, dn[3], sv[3][3], s[3];
-  bool Set(const double xa[3][3], const double xb[3][3]) {
+  bool   Set(const double xa[3][3], const double xb[3][3]) {
     double m[3][3], d[3][3];
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k)
-        m[i][k] = 0.5 * (xa[i][k] + xb[i][k]), d[i][k] = xb[i][k] - xa[i][k];
-    const double e1[3] = {m[1][0] - m[0][0], m[1][1] - m[0][1],
-                          m[1][2] - m[0][2]};
-    const double e2[3] = {m[2][0] - m[0][0], m[2][1] - m[0][1],
-                          m[2][2] - m[0][2]};
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2],
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+      for (int k = 0; k < 3; ++k) m[i][k] = 0.5 * (xa[i][k] + xb[i][k]), d[i][k] = xb[i][k] - xa[i][k];
+    const double e1[3] = {m[1][0] - m[0][0], m[1][1] - m[0][1], m[1][2] - m[0][2]};
+    const double e2[3] = {m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]};
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     const double twiceA = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(twiceA > 0))
-      return false;
-    for (double &c : n)
-      c /= twiceA;
+    if (!(twiceA > 0)) return false;
+    for (double &c : n) c /= twiceA;
     w = twiceA / 6.0;
     for (int q = 0; q < 3; ++q) {
       // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
       const int i = q, j = (q + 1) % 3;
-      double sep[3];
-      for (int k = 0; k < 3; ++k)
-        sep[k] = 0.5 * (d[i][k] + d[j][k]);
+      double    sep[3];
+      for (int k = 0; k < 3; ++k) sep[k] = 0.5 * (d[i][k] + d[j][k]);
       dn[q] = sep[0] * n[0] + sep[1] * n[1] + sep[2] * n[2];
-      for (int k = 0; k < 3; ++k)
-        sv[q][k] = sep[k] - dn[q] * n[k];
-      s[q] = std::sqrt(sv[q][0] * sv[q][0] + sv[q][1] * sv[q][1] +
-                       sv[q][2] * sv[q][2]);
+      for (int k = 0; k < 3; ++k) sv[q][k] = sep[k] - dn[q] * n[k];
+      s[q] = std::sqrt(sv[q][0] * sv[q][0] + sv[q][1] * sv[q][1] + sv[q][2] * sv[q][2]);
     }
     return true;
   }
 };
 } // namespace
 
-double JointElementForces(const JointLaw &L, const double xa[3][3],
-                          const double xb[3][3], JointState state[3],
-                          double fa[3][3], double fb[3][3],
-                          double *dissipated) {
+double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
   JointPoints P;
-  if (!P.Set(xa, xb))
-    return 0; // a collapsed mid-surface carries nothing
+  if (!P.Set(xa, xb)) return 0; // a collapsed mid-surface carries nothing
   double Dmax = 0, diss = 0;
   for (int q = 0; q < 3; ++q) {
-    const int i = q, j = (q + 1) % 3;
+    const int           i = q, j = (q + 1) % 3;
     const JointTraction t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
     Dmax = std::max(Dmax, t.D);
     diss += P.w * t.dissipated;
-    if (state[q].broken)
-      continue;
-    double tr[3]; // traction on A, towards B (it pulls the faces together when
-                  // they open)
-    for (int k = 0; k < 3; ++k)
-      tr[k] =
-          t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
+    if (state[q].broken) continue;
+    double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
+    for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {
       const double f = 0.5 * P.w * tr[k];
       fa[i][k] += f, fa[j][k] += f;
       fb[i][k] -= f, fb[j][k] -= f;
     }
   }
-  if (dissipated)
-    *dissipated += diss;
+  if (dissipated) *dissipated += diss;
   return Dmax;
 }
 
-double JointElementEnergy(const JointLaw &L, const double xa[3][3],
-                          const double xb[3][3], const JointState state[3]) {
+double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
-  if (!P.Set(xa, xb))
-    return 0;
+  if (!P.Set(xa, xb)) return 0;
   double e = 0;
   for (int q = 0; q < 3; ++q)
-    if (!state[q].broken)
-      e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
+    if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
   return e;
 }
 

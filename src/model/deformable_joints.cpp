@@ -19,63 +19,46 @@ using namespace fdem::model::deformable;
 using fdem::kernels::JointLaw;
 using fdem::kernels::norm;
 
-static_assert(sizeof(JointLaw) == 10 * sizeof(double),
-              "JointLaw is sent as 10 doubles");
+static_assert(sizeof(JointLaw) == 10 * sizeof(double), "JointLaw is sent as 10 doubles");
 
-void fdem::model::deformable::SplitFracturable(FDEMDeformable d,
-                                               const std::vector<int> &mob) {
+void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
   d->joints_input.clear();
   d->laws_input.clear();
-  if (d->fracture.empty())
-    return;
+  if (d->fracture.empty()) return;
   std::vector<char> split(mob.size(), 0);
-  bool any = false;
-  for (std::size_t b = 0; b < mob.size(); ++b)
-    any |= (split[b] = d->fracture.count(d->materials[mob[b]].name) > 0);
-  if (!any)
-    return;
+  bool              any = false;
+  for (std::size_t b = 0; b < mob.size(); ++b) any |= (split[b] = d->fracture.count(d->materials[mob[b]].name) > 0);
+  if (!any) return;
   fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;
     // the element size of the law: the mean edge of the joint's triangle
-    const double h =
-        (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) +
-         norm(x[j.a[0]] - x[j.a[2]])) /
-        3;
-    const int b = s.mesh.body[j.tet_a];
-    const auto &mat = d->fracture.at(d->materials[mob[b]].name);
+    const double h   = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
+    const int    b   = s.mesh.body[j.tet_a];
+    const auto  &mat = d->fracture.at(d->materials[mob[b]].name);
     try {
       d->laws_input.push_back(fdem::kernels::MakeJointLaw(mat, h));
     } catch (const fdem::kernels::InputError &e) {
-      throw fdem::kernels::InputError(
-          "body '" + s.mesh.body_names[b] + "', the joint between elements " +
-          std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " +
-          e.what());
+      throw fdem::kernels::InputError("body '" + s.mesh.body_names[b] + "', the joint between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
     }
   }
-  // The joints' largest frequency, estimated node by node: a joint point of
-  // area A/3 is a spring of stiffness p (A/3) / h (the law's slope at zero
-  // opening or slip, p / h per area) between a node pair of the two sides, half
-  // of it on each of its edge's nodes; a node of mass m tied by springs of
-  // total stiffness K to its twins has omega^2 <= 2 K / m (the row sum of its
-  // stiffness, Gershgorin).
+  // The joints' largest frequency, estimated node by node: a joint point of area A/3 is a
+  // spring of stiffness p (A/3) / h (the law's slope at zero opening or slip, p / h per
+  // area) between a node pair of the two sides, half of it on each of its edge's nodes;
+  // a node of mass m tied by springs of total stiffness K to its twins has
+  // omega^2 <= 2 K / m (the row sum of its stiffness, Gershgorin).
   std::vector<double> K(s.mesh.nodes.size(), 0.0), m(s.mesh.nodes.size(), 0.0);
   for (std::size_t t = 0; t < s.mesh.tets.size(); ++t) {
-    const double q = d->materials[mob[s.mesh.body[t]]].rho *
-                     std::fabs(fdem::kernels::TetSignedVolume(s.mesh, (int)t)) /
-                     4;
-    for (int n : s.mesh.tets[t])
-      m[n] += q;
+    const double q = d->materials[mob[s.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(s.mesh, (int)t)) / 4;
+    for (int n : s.mesh.tets[t]) m[n] += q;
   }
   for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const auto &J = s.joints[j];
-    const auto &x = s.mesh.nodes;
-    const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]],
-                                                     x[J.a[2]] - x[J.a[0]]));
-    const double k = d->laws_input[j].penalty * (A / 3) /
-                     d->laws_input[j].h; // per point; a node gets two halves
+    const auto  &J = s.joints[j];
+    const auto  &x = s.mesh.nodes;
+    const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]], x[J.a[2]] - x[J.a[0]]));
+    const double k = d->laws_input[j].penalty * (A / 3) / d->laws_input[j].h; // per point; a node gets two halves
     for (int i = 0; i < 3; ++i) {
       K[J.a[i]] += k;
       K[J.b[i]] += k;
@@ -83,93 +66,70 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d,
   }
   double w2 = 0;
   for (std::size_t i = 0; i < K.size(); ++i)
-    if (K[i] > 0 && m[i] > 0)
-      w2 = std::fmax(w2, 2 * K[i] / m[i]);
+    if (K[i] > 0 && m[i] > 0) w2 = std::fmax(w2, 2 * K[i] / m[i]);
   d->joint_omega = std::sqrt(w2);
-  d->mesh = std::move(s.mesh);
+  d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
   d->joints_input = std::move(s.joints);
 }
 
 PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscFunctionBegin;
-  PetscInt sizes[2] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0,
-                       d->rank == 0 ? (PetscInt)d->split_parent.size() : 0};
+  PetscInt sizes[2] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0};
   PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
   d->njoints_global = nj;
   if (sizes[1] == 0) { // nothing was split: every node is its own input node
-    d->owned_input = d->owned_gid;
+    d->owned_input  = d->owned_gid;
     d->ninput_nodes = d->nnodes_global;
     PetscFunctionReturn(0);
   }
   PetscCallMPI(MPI_Bcast(&d->joint_omega, 1, MPIU_REAL, 0, d->comm));
   // where every node and cell went: (rank, local index) gathered on rank 0
-  const PetscMPIInt size = d->size;
-  std::vector<PetscMPIInt> nn(size), nc(size), offn(size + 1, 0),
-      offc(size + 1, 0);
-  PetscMPIInt mine[2] = {(PetscMPIInt)d->nlocal,
-                         (PetscMPIInt)d->cell_gid.size()};
+  const PetscMPIInt      size = d->size;
+  std::vector<PetscMPIInt> nn(size), nc(size), offn(size + 1, 0), offc(size + 1, 0);
+  PetscMPIInt            mine[2] = {(PetscMPIInt)d->nlocal, (PetscMPIInt)d->cell_gid.size()};
   std::vector<PetscMPIInt> both(2 * size);
-  PetscCallMPI(
-      MPI_Gather(mine, 2, MPI_INT, both.data(), 2, MPI_INT, 0, d->comm));
+  PetscCallMPI(MPI_Gather(mine, 2, MPI_INT, both.data(), 2, MPI_INT, 0, d->comm));
   for (int r = 0; r < size; ++r) {
-    nn[r] = both[2 * r];
-    nc[r] = both[2 * r + 1];
+    nn[r]       = both[2 * r];
+    nc[r]       = both[2 * r + 1];
     offn[r + 1] = offn[r] + nn[r];
     offc[r + 1] = offc[r] + nc[r];
   }
-  std::vector<PetscInt> allnodes(d->rank == 0 ? offn[size] : 0),
-      allcells(d->rank == 0 ? offc[size] : 0);
-  PetscCallMPI(MPI_Gatherv(d->node_gid.data(), mine[0], MPIU_INT,
-                           allnodes.data(), nn.data(), offn.data(), MPIU_INT, 0,
-                           d->comm));
-  PetscCallMPI(MPI_Gatherv(d->cell_gid.data(), mine[1], MPIU_INT,
-                           allcells.data(), nc.data(), offc.data(), MPIU_INT, 0,
-                           d->comm));
-  // the input node of every local node, back to its rank (FixNodes/MoveNodes
-  // take input ids)
+  std::vector<PetscInt> allnodes(d->rank == 0 ? offn[size] : 0), allcells(d->rank == 0 ? offc[size] : 0);
+  PetscCallMPI(MPI_Gatherv(d->node_gid.data(), mine[0], MPIU_INT, allnodes.data(), nn.data(), offn.data(), MPIU_INT, 0, d->comm));
+  PetscCallMPI(MPI_Gatherv(d->cell_gid.data(), mine[1], MPIU_INT, allcells.data(), nc.data(), offc.data(), MPIU_INT, 0, d->comm));
+  // the input node of every local node, back to its rank (FixNodes/MoveNodes take input ids)
   {
-    std::vector<PetscInt> parents(d->rank == 0 ? offn[size] : 0),
-        mine_p(d->nlocal);
+    std::vector<PetscInt> parents(d->rank == 0 ? offn[size] : 0), mine_p(d->nlocal);
     if (d->rank == 0) {
-      for (std::size_t i = 0; i < parents.size(); ++i)
-        parents[i] = d->split_parent[allnodes[i]];
-      d->ninput_nodes =
-          1 + *std::max_element(d->split_parent.begin(), d->split_parent.end());
+      for (std::size_t i = 0; i < parents.size(); ++i) parents[i] = d->split_parent[allnodes[i]];
+      d->ninput_nodes = 1 + *std::max_element(d->split_parent.begin(), d->split_parent.end());
     }
-    PetscCallMPI(MPI_Scatterv(parents.data(), nn.data(), offn.data(), MPIU_INT,
-                              mine_p.data(), (PetscMPIInt)d->nlocal, MPIU_INT,
-                              0, d->comm));
+    PetscCallMPI(MPI_Scatterv(parents.data(), nn.data(), offn.data(), MPIU_INT, mine_p.data(), (PetscMPIInt)d->nlocal, MPIU_INT, 0, d->comm));
     PetscCallMPI(MPI_Bcast(&d->ninput_nodes, 1, MPIU_INT, 0, d->comm));
     d->owned_input.resize(d->nown);
-    for (PetscInt k = 0; k < d->nown; ++k)
-      d->owned_input[k] = mine_p[d->owned_local[k]];
+    for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
   }
-  if (nj == 0)
-    PetscFunctionReturn(0);
-  // rank 0: each joint's record (8 ints, 10 reals) to the rank of its
-  // tetrahedron a
-  constexpr int NI = 8, NR = 10;
-  std::vector<PetscInt> ibuf;
+  if (nj == 0) PetscFunctionReturn(0);
+  // rank 0: each joint's record (8 ints, 10 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 8, NR = 10;
+  std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
-  std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0),
-      roff(size, 0);
+  std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);
   if (d->rank == 0) {
-    std::vector<PetscMPIInt> node_rank(d->nnodes_global, -1),
-        cell_rank(d->ncells_global, -1);
-    std::vector<PetscInt> node_lidx(d->nnodes_global, -1);
+    std::vector<PetscMPIInt> node_rank(d->nnodes_global, -1), cell_rank(d->ncells_global, -1);
+    std::vector<PetscInt>    node_lidx(d->nnodes_global, -1);
     for (int r = 0; r < size; ++r) {
       for (PetscMPIInt i = 0; i < nn[r]; ++i) {
         node_rank[allnodes[offn[r] + i]] = r;
         node_lidx[allnodes[offn[r] + i]] = i;
       }
-      for (PetscMPIInt i = 0; i < nc[r]; ++i)
-        cell_rank[allcells[offc[r] + i]] = r;
+      for (PetscMPIInt i = 0; i < nc[r]; ++i) cell_rank[allcells[offc[r] + i]] = r;
     }
     std::vector<int> dest(nj);
-    for (PetscInt j = 0; j < nj; ++j)
-      cnt[dest[j] = cell_rank[d->joints_input[j].tet_a]]++;
+    for (PetscInt j = 0; j < nj; ++j) cnt[dest[j] = cell_rank[d->joints_input[j].tet_a]]++;
     for (int r = 0; r < size; ++r) {
       icnt[r] = NI * cnt[r];
       rcnt[r] = NR * cnt[r];
@@ -182,25 +142,20 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     rbuf.resize(NR * (size_t)nj);
     std::vector<PetscMPIInt> at(size, 0);
     for (PetscInt j = 0; j < nj; ++j) {
-      const auto &J = d->joints_input[j];
-      const int r = dest[j];
-      PetscInt *I = &ibuf[ioff[r] + NI * (size_t)at[r]];
-      PetscReal *R = &rbuf[roff[r] + NR * (size_t)at[r]];
+      const auto  &J = d->joints_input[j];
+      const int    r = dest[j];
+      PetscInt    *I = &ibuf[ioff[r] + NI * (size_t)at[r]];
+      PetscReal   *R = &rbuf[roff[r] + NR * (size_t)at[r]];
       ++at[r];
       for (int i = 0; i < 3; ++i) {
-        PetscCheck(
-            node_rank[J.a[i]] == r, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-            "joint %" PetscInt_FMT
-            ": a node of triangle a is not on the rank of its tetrahedron",
-            j);
-        I[i] = node_lidx[J.a[i]];
+        PetscCheck(node_rank[J.a[i]] == r, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint %" PetscInt_FMT ": a node of triangle a is not on the rank of its tetrahedron", j);
+        I[i]     = node_lidx[J.a[i]];
         I[4 + i] = node_lidx[J.b[i]];
       }
       I[3] = node_rank[J.b[0]];
       I[7] = j;
       const double *L = reinterpret_cast<const double *>(&d->laws_input[j]);
-      for (int k = 0; k < NR; ++k)
-        R[k] = L[k];
+      for (int k = 0; k < NR; ++k) R[k] = L[k];
     }
     d->joints_input.clear();
     d->joints_input.shrink_to_fit();
@@ -208,14 +163,11 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     d->laws_input.shrink_to_fit();
   }
   PetscMPIInt mycnt;
-  PetscCallMPI(
-      MPI_Scatter(cnt.data(), 1, MPI_INT, &mycnt, 1, MPI_INT, 0, d->comm));
-  std::vector<PetscInt> imine(NI * (size_t)mycnt);
+  PetscCallMPI(MPI_Scatter(cnt.data(), 1, MPI_INT, &mycnt, 1, MPI_INT, 0, d->comm));
+  std::vector<PetscInt>  imine(NI * (size_t)mycnt);
   std::vector<PetscReal> rmine(NR * (size_t)mycnt);
-  PetscCallMPI(MPI_Scatterv(ibuf.data(), icnt.data(), ioff.data(), MPIU_INT,
-                            imine.data(), NI * mycnt, MPIU_INT, 0, d->comm));
-  PetscCallMPI(MPI_Scatterv(rbuf.data(), rcnt.data(), roff.data(), MPIU_REAL,
-                            rmine.data(), NR * mycnt, MPIU_REAL, 0, d->comm));
+  PetscCallMPI(MPI_Scatterv(ibuf.data(), icnt.data(), ioff.data(), MPIU_INT, imine.data(), NI * mycnt, MPIU_INT, 0, d->comm));
+  PetscCallMPI(MPI_Scatterv(rbuf.data(), rcnt.data(), roff.data(), MPIU_REAL, rmine.data(), NR * mycnt, MPIU_REAL, 0, d->comm));
   d->jnode_a.resize(mycnt);
   d->jlaw.resize(mycnt);
   d->jstate.assign(mycnt, {});
@@ -224,60 +176,44 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   std::vector<PetscSFNode> remote(9 * (size_t)mycnt);
   for (PetscMPIInt j = 0; j < mycnt; ++j) {
     const PetscInt *I = &imine[NI * (size_t)j];
-    d->jgid[j] = I[7];
+    d->jgid[j]        = I[7];
     for (int i = 0; i < 3; ++i) {
       d->jnode_a[j][i] = (int)I[i];
       for (int k = 0; k < 3; ++k) {
-        remote[9 * (size_t)j + 3 * i + k].rank = (PetscInt)I[3];
+        remote[9 * (size_t)j + 3 * i + k].rank  = (PetscInt)I[3];
         remote[9 * (size_t)j + 3 * i + k].index = 3 * I[4 + i] + k;
       }
     }
-    std::copy(&rmine[NR * (size_t)j], &rmine[NR * (size_t)j] + NR,
-              reinterpret_cast<double *>(&d->jlaw[j]));
+    std::copy(&rmine[NR * (size_t)j], &rmine[NR * (size_t)j] + NR, reinterpret_cast<double *>(&d->jlaw[j]));
   }
   PetscCall(PetscSFCreate(d->comm, &d->jsf));
-  PetscCall(PetscSFSetGraph(d->jsf, 3 * d->nlocal, 9 * (PetscInt)mycnt, nullptr,
-                            PETSC_COPY_VALUES, remote.data(),
-                            PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetGraph(d->jsf, 3 * d->nlocal, 9 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
   PetscCall(PetscSFSetUp(d->jsf));
   d->jxb.assign(9 * (size_t)mycnt, 0);
   d->jfb.assign(9 * (size_t)mycnt, 0);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d,
-                                                       const PetscScalar *xl,
-                                                       PetscScalar *fl) {
+PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
-  if (d->njoints_global == 0)
-    PetscFunctionReturn(0);
-  if (d->ts &&
-      d->ts != d->joint_checked) { // once per TS, at its first evaluation
-    TSType type;
-    PetscReal dt;
-    PetscBool found;
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
+  if (d->ts && d->ts != d->joint_checked) { // once per TS, at its first evaluation
+    TSType         type;
+    PetscReal      dt;
+    PetscBool      found;
     FDEMSchemeInfo info;
     d->joint_checked = d->ts;
     PetscCall(TSGetType(d->ts, &type));
     PetscCall(TSGetTimeStep(d->ts, &dt));
     PetscCall(FDEMSchemeInfoFind(type, &found, &info));
-    const PetscReal r =
-        found && info.kcrit > 0 ? d->joint_omega * dt / info.kcrit : 0;
+    const PetscReal r = found && info.kcrit > 0 ? d->joint_omega * dt / info.kcrit : 0;
     if (r > 0.5)
-      PetscCall(PetscPrintf(
-          d->comm,
-          "WARNING fdem joints: the joints' frequency omega_j = %g (estimated "
-          "from the joint penalty and the nodal masses; see doc/fracture.md) "
-          "makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f "
-          "of -ts_type %s; reduce dt below %g or the joint penalty\n",
-          (double)d->joint_omega, (double)(d->joint_omega * dt),
-          (double)(100 * r), (double)info.kcrit, type,
-          (double)(0.5 * info.kcrit / d->joint_omega)));
+      PetscCall(PetscPrintf(d->comm,
+                            "WARNING fdem joints: the joints' frequency omega_j = %g (estimated from the joint penalty and the nodal masses; see doc/fracture.md) makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g or the joint penalty\n",
+                            (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
   }
-  PetscCall(
-      PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
-  PetscCall(
-      PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
   const std::size_t nj = d->jnode_a.size();
   for (std::size_t j = 0; j < nj; ++j) {
     double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
@@ -286,26 +222,22 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d,
         xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
         xb[i][k] = d->jxb[9 * j + 3 * i + k];
       }
-    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(),
-                                      fa, fb, &d->jdissipated);
+    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdissipated);
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) {
         fl[3 * d->jnode_a[j][i] + k] += fa[i][k];
         d->jfb[9 * j + 3 * i + k] = fb[i][k];
       }
   }
-  PetscCall(
-      PetscSFReduceBegin(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
+  PetscCall(PetscSFReduceBegin(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
   PetscCall(PetscSFReduceEnd(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U,
-                                            PetscReal *stored,
-                                            PetscReal *dissipated) {
-  StateView sv;
+PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *stored, PetscReal *dissipated) {
+  StateView          sv;
   const PetscScalar *xl;
-  PetscReal loc[2] = {0, d->jdissipated}, glob[2] = {0, 0};
+  PetscReal          loc[2] = {0, d->jdissipated}, glob[2] = {0, 0};
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetJointEnergy"));
   if (d->njoints_global > 0) {
@@ -313,10 +245,8 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U,
     PetscCall(LocalPositions(d, sv.xa, nullptr));
     PetscCall(sv.Restore());
     PetscCall(VecGetArrayRead(d->xloc, &xl));
-    PetscCall(
-        PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
-    PetscCall(
-        PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
     for (std::size_t j = 0; j < d->jnode_a.size(); ++j) {
       double xa[3][3], xb[3][3];
       for (int i = 0; i < 3; ++i)
@@ -324,67 +254,55 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U,
           xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
           xb[i][k] = d->jxb[9 * j + 3 * i + k];
         }
-      loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb,
-                                                  d->jstate[j].data());
+      loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
     }
     PetscCall(VecRestoreArrayRead(d->xloc, &xl));
     PetscCall(MPIU_Allreduce(loc, glob, 2, MPIU_REAL, MPIU_SUM, d->comm));
   }
-  if (stored)
-    *stored = glob[0];
-  if (dissipated)
-    *dissipated = glob[1];
+  if (stored) *stored = glob[0];
+  if (dissipated) *dissipated = glob[1];
   PetscFunctionReturn(0);
 }
 
-// The joints' damage in the split's joint order: a Vec of 3 entries per joint
-// (its points), laid out by PETSc, and the scatter from this rank's joints into
-// it.
-static PetscErrorCode JointDamageLayout(FDEMDeformable d, Vec *nat, Vec *mine,
-                                        VecScatter *sc) {
+// The joints' damage in the split's joint order: a Vec of 3 entries per joint (its points),
+// laid out by PETSc, and the scatter from this rank's joints into it.
+static PetscErrorCode JointDamageLayout(FDEMDeformable d, Vec *nat, Vec *mine, VecScatter *sc) {
   IS idx;
   PetscFunctionBegin;
-  const PetscInt n = (PetscInt)d->jgid.size();
+  const PetscInt        n = (PetscInt)d->jgid.size();
   std::vector<PetscInt> ids(3 * (size_t)n);
   for (PetscInt j = 0; j < n; ++j)
-    for (int q = 0; q < 3; ++q)
-      ids[3 * j + q] = 3 * d->jgid[j] + q;
+    for (int q = 0; q < 3; ++q) ids[3 * j + q] = 3 * d->jgid[j] + q;
   PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, 3 * d->njoints_global, nat));
   PetscCall(PetscObjectSetName((PetscObject)*nat, "joint_damage"));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * n, mine));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, 3 * n, ids.data(),
-                            PETSC_COPY_VALUES, &idx));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, 3 * n, ids.data(), PETSC_COPY_VALUES, &idx));
   PetscCall(VecScatterCreate(*mine, nullptr, *nat, idx, sc));
   PetscCall(ISDestroy(&idx));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d,
-                                            PetscViewer viewer) {
-  Vec nat, mine, diss;
-  VecScatter sc;
+PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer) {
+  Vec          nat, mine, diss;
+  VecScatter   sc;
   PetscScalar *a;
-  PetscReal total;
+  PetscReal    total;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
-  if (d->njoints_global == 0)
-    PetscFunctionReturn(0);
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
   PetscCall(JointDamageLayout(d, &nat, &mine, &sc));
   PetscCall(VecGetArray(mine, &a));
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q)
-      a[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
+    for (int q = 0; q < 3; ++q) a[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
   PetscCall(VecRestoreArray(mine, &a));
   PetscCall(VecScatterBegin(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecView(nat, viewer));
   // the dissipated energy, one value (the sum over ranks)
-  PetscCallMPI(
-      MPIU_Allreduce(&d->jdissipated, &total, 1, MPIU_REAL, MPIU_SUM, d->comm));
+  PetscCallMPI(MPIU_Allreduce(&d->jdissipated, &total, 1, MPIU_REAL, MPIU_SUM, d->comm));
   PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &diss));
   PetscCall(PetscObjectSetName((PetscObject)diss, "joint_dissipated"));
-  if (d->rank == 0)
-    PetscCall(VecSetValue(diss, 0, total, INSERT_VALUES));
+  if (d->rank == 0) PetscCall(VecSetValue(diss, 0, total, INSERT_VALUES));
   PetscCall(VecAssemblyBegin(diss));
   PetscCall(VecAssemblyEnd(diss));
   PetscCall(VecView(diss, viewer));
@@ -395,25 +313,18 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d,
-                                            PetscViewer viewer) {
-  Vec nat, mine, diss;
-  VecScatter sc;
+PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer) {
+  Vec                nat, mine, diss;
+  VecScatter         sc;
   const PetscScalar *a;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
-  if (d->njoints_global == 0)
-    PetscFunctionReturn(0);
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
   PetscCall(JointDamageLayout(d, &nat, &mine, &sc));
   PetscCall(VecLoad(nat, viewer));
   PetscInt n;
   PetscCall(VecGetSize(nat, &n));
-  PetscCheck(
-      n == 3 * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED,
-      "FDEMDeformableLoadJointState: the saved joint_damage has %" PetscInt_FMT
-      " entries, this mesh has %" PetscInt_FMT
-      " joints x 3 points (another scene?)",
-      n, d->njoints_global);
+  PetscCheck(n == 3 * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved joint_damage has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x 3 points (another scene?)", n, d->njoints_global);
   PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecGetArrayRead(mine, &a));
@@ -421,24 +332,19 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d,
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) {
       const PetscReal D = PetscRealPart(a[3 * j + q]);
-      if (!(D >= 0 && D <= 1) && bad < 0)
-        bad = d->jgid[j];
-      d->jstate[j][q].D = D;
+      if (!(D >= 0 && D <= 1) && bad < 0) bad = d->jgid[j];
+      d->jstate[j][q].D      = D;
       d->jstate[j][q].broken = D >= 1;
     }
   PetscCall(VecRestoreArrayRead(mine, &a));
-  PetscCallMPI(
-      MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED,
-             "FDEMDeformableLoadJointState: joint %" PetscInt_FMT
-             " has a damage outside [0, 1] in the saved joint_damage",
-             bad);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage outside [0, 1] in the saved joint_damage", bad);
   PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &diss));
   PetscCall(PetscObjectSetName((PetscObject)diss, "joint_dissipated"));
   PetscCall(VecLoad(diss, viewer));
   {
     const PetscScalar *v;
-    PetscInt nl;
+    PetscInt           nl;
     PetscCall(VecGetLocalSize(diss, &nl));
     PetscCall(VecGetArrayRead(diss, &v));
     d->jdissipated = nl > 0 ? PetscRealPart(v[0]) : 0; // rank 0 holds the sum
@@ -457,31 +363,22 @@ PetscErrorCode fdem::model::deformable::DestroyJoints(FDEMDeformable d) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableSetMaterialFracture(
-    FDEMDeformable d, const char *material, PetscReal tensile_strength,
-    PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII,
-    PetscReal joint_penalty) {
+PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable d, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty) {
   PetscFunctionBegin;
-  PetscCheck(material && material[0], d->comm, PETSC_ERR_ARG_NULL,
-             "FDEMDeformableSetMaterialFracture: the material needs a name");
+  PetscCheck(material && material[0], d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableSetMaterialFracture: the material needs a name");
   PetscCall(CheckNotSetUp(d, "FDEMDeformableSetMaterialFracture"));
   bool known = false;
-  for (const auto &m : d->materials)
-    known = known || m.name == material;
-  PetscCheck(known, d->comm, PETSC_ERR_ARG_WRONG,
-             "FDEMDeformableSetMaterialFracture: no material '%s' (add it "
-             "first with FDEMDeformableAddMaterial)",
-             material);
+  for (const auto &m : d->materials) known = known || m.name == material;
+  PetscCheck(known, d->comm, PETSC_ERR_ARG_WRONG, "FDEMDeformableSetMaterialFracture: no material '%s' (add it first with FDEMDeformableAddMaterial)", material);
   fdem::kernels::JointMaterial m;
-  m.name = material;
+  m.name             = material;
   m.tensile_strength = tensile_strength;
-  m.cohesion = cohesion;
-  m.friction_angle = friction_angle;
-  m.GI = GI;
-  m.GII = GII;
-  m.penalty = joint_penalty;
-  // the law's own checks of the material (element size 0 is not checked here:
-  // any positive size)
+  m.cohesion         = cohesion;
+  m.friction_angle   = friction_angle;
+  m.GI               = GI;
+  m.GII              = GII;
+  m.penalty          = joint_penalty;
+  // the law's own checks of the material (element size 0 is not checked here: any positive size)
   PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
     (void)fdem::kernels::MakeJointLaw(m, 1e-30);
     return 0;
@@ -490,34 +387,28 @@ PetscErrorCode FDEMDeformableSetMaterialFracture(
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable d,
-                                               PetscReal *omega) {
+PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable d, PetscReal *omega) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetJointFrequency"));
   *omega = d->joint_omega;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable d, PetscInt *joints,
-                                           PetscInt *broken,
-                                           PetscReal *max_damage) {
+PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable d, PetscInt *joints, PetscInt *broken, PetscReal *max_damage) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetJointStats"));
-  PetscInt nb = 0;
-  PetscReal D = 0;
+  PetscInt  nb = 0;
+  PetscReal D  = 0;
   for (const auto &st : d->jstate) {
     bool all = true;
     for (const auto &p : st) {
       all = all && p.broken;
-      D = std::fmax(D, p.D);
+      D   = std::fmax(D, p.D);
     }
     nb += all ? 1 : 0;
   }
-  if (broken)
-    PetscCallMPI(MPI_Allreduce(&nb, broken, 1, MPIU_INT, MPI_SUM, d->comm));
-  if (max_damage)
-    PetscCallMPI(MPI_Allreduce(&D, max_damage, 1, MPIU_REAL, MPI_MAX, d->comm));
-  if (joints)
-    *joints = d->njoints_global;
+  if (broken) PetscCallMPI(MPI_Allreduce(&nb, broken, 1, MPIU_INT, MPI_SUM, d->comm));
+  if (max_damage) PetscCallMPI(MPI_Allreduce(&D, max_damage, 1, MPIU_REAL, MPI_MAX, d->comm));
+  if (joints) *joints = d->njoints_global;
   PetscFunctionReturn(0);
 }

@@ -1,8 +1,7 @@
-// The cohesive law of a fracture joint (fdem/kernels/joint.hpp,
-// doc/fracture.md): Munjiza's softening curve, the traction-separation law
-// point by point in pure mode I and II, the dissipated energy against G_I and
-// G_II, damage that never heals, Mohr-Coulomb strengthening under compression,
-// bad input.
+// The cohesive law of a fracture joint (fdem/kernels/joint.hpp, doc/fracture.md):
+// Munjiza's softening curve, the traction-separation law point by point in
+// pure mode I and II, the dissipated energy against G_I and G_II, damage that
+// never heals, Mohr-Coulomb strengthening under compression, bad input.
 #include <fdem/kernels/error.hpp>
 #include <fdem/kernels/joint.hpp>
 
@@ -16,8 +15,7 @@ namespace {
 JointMaterial Mortar() {
   JointMaterial m;
   m.name = "mortar";
-  m.tensile_strength = 1.0e6, m.cohesion = 3.0e6, m.friction_angle = 30,
-  m.GI = 10, m.GII = 50, m.penalty = 1.0e10;
+  m.tensile_strength = 1.0e6, m.cohesion = 3.0e6, m.friction_angle = 30, m.GI = 10, m.GII = 50, m.penalty = 1.0e10;
   return m;
 }
 // Work per unit area of the traction along a monotonic path 0 -> end in n
@@ -26,8 +24,7 @@ double Work(const JointLaw &L, bool shear, double end, int n, JointState &st) {
   double w = 0, prev = 0;
   for (int i = 1; i <= n; ++i) {
     const double d = end * i / n;
-    const JointTraction t =
-        shear ? JointTractionAt(L, 0, d, st) : JointTractionAt(L, d, 0, st);
+    const JointTraction t = shear ? JointTractionAt(L, 0, d, st) : JointTractionAt(L, d, 0, st);
     const double cur = shear ? t.tau : t.sigma;
     w += 0.5 * (prev + cur) * (end / n);
     prev = cur;
@@ -39,16 +36,12 @@ double Work(const JointLaw &L, bool shear, double end, int n, JointState &st) {
 TEST(Joint, SofteningCurveEndsAndIntegral) {
   EXPECT_NEAR(JointSoftening(0), 1.0, 1e-15);
   EXPECT_NEAR(JointSoftening(1), 0.0, 1e-15);
-  for (int i = 0; i < 100; ++i)
-    EXPECT_GT(JointSoftening(i / 100.0), JointSoftening((i + 1) / 100.0))
-        << "z must decrease at D = " << i / 100.0;
-  // the published value of the integral, to its 4 digits, and an independent
-  // midpoint rule
+  for (int i = 0; i < 100; ++i) EXPECT_GT(JointSoftening(i / 100.0), JointSoftening((i + 1) / 100.0)) << "z must decrease at D = " << i / 100.0;
+  // the published value of the integral, to its 4 digits, and an independent midpoint rule
   EXPECT_NEAR(JointSofteningIntegral(), 0.3863, 5e-5);
   double mid = 0;
   const int n = 100000;
-  for (int i = 0; i < n; ++i)
-    mid += JointSoftening((i + 0.5) / n) / n;
+  for (int i = 0; i < n; ++i) mid += JointSoftening((i + 0.5) / n) / n;
   EXPECT_NEAR(JointSofteningIntegral(), mid, 1e-9);
 }
 
@@ -56,9 +49,7 @@ TEST(Joint, ModeIFollowsTheLawPointByPoint) {
   const JointLaw L = MakeJointLaw(Mortar(), 0.01);
   EXPECT_DOUBLE_EQ(L.dn_peak, 2 * 0.01 * 1e6 / 1e10); // 2 h f_t / p = 2e-6 m
   const double Z = JointSofteningIntegral();
-  EXPECT_NEAR(L.dn_crit,
-              L.dn_peak + (10 - 2.0 / 3.0 * 1e6 * L.dn_peak) / (1e6 * Z),
-              1e-18);
+  EXPECT_NEAR(L.dn_crit, L.dn_peak + (10 - 2.0 / 3.0 * 1e6 * L.dn_peak) / (1e6 * Z), 1e-18);
   JointState st;
   // hardening: 2x - x^2 of f_t, reversible (no damage)
   EXPECT_NEAR(JointTractionAt(L, 0.5 * L.dn_peak, 0, st).sigma, 0.75e6, 1e-6);
@@ -69,8 +60,7 @@ TEST(Joint, ModeIFollowsTheLawPointByPoint) {
   // softening: z(D) f_t at D = 0.25, 0.5, 0.9
   for (double D : {0.25, 0.5, 0.9}) {
     JointState s2;
-    const JointTraction t =
-        JointTractionAt(L, L.dn_peak + D * (L.dn_crit - L.dn_peak), 0, s2);
+    const JointTraction t = JointTractionAt(L, L.dn_peak + D * (L.dn_crit - L.dn_peak), 0, s2);
     EXPECT_NEAR(t.D, D, 1e-12);
     EXPECT_NEAR(t.sigma, 1e6 * JointSoftening(D), 1e-6 * 1e6);
   }
@@ -98,19 +88,16 @@ TEST(Joint, DamageNeverHealsAndMixedModeAddsUp) {
   JointState st;
   const double d = L.dn_peak + 0.5 * (L.dn_crit - L.dn_peak);
   const double peak = JointTractionAt(L, d, 0, st).sigma;
-  // unloading to the peak opening keeps D = 0.5: the traction is z(0.5) f_t,
-  // not f_t
+  // unloading to the peak opening keeps D = 0.5: the traction is z(0.5) f_t, not f_t
   const JointTraction back = JointTractionAt(L, L.dn_peak, 0, st);
   EXPECT_NEAR(back.D, 0.5, 1e-12);
   EXPECT_NEAR(back.sigma, JointSoftening(0.5) * 1e6, 1e-3);
-  EXPECT_NEAR(back.sigma, peak,
-              1e-3); // same damage, both beyond the hardening branch
+  EXPECT_NEAR(back.sigma, peak, 1e-3); // same damage, both beyond the hardening branch
   // mode I and II damage of 0.6 each combine to sqrt(0.72)
   double sp, sc;
   JointSlipLimits(L, 0, &sp, &sc);
   JointState m;
-  const JointTraction t = JointTractionAt(
-      L, L.dn_peak + 0.6 * (L.dn_crit - L.dn_peak), sp + 0.6 * (sc - sp), m);
+  const JointTraction t = JointTractionAt(L, L.dn_peak + 0.6 * (L.dn_crit - L.dn_peak), sp + 0.6 * (sc - sp), m);
   EXPECT_NEAR(t.D, std::sqrt(0.72), 1e-12);
 }
 
@@ -122,16 +109,14 @@ TEST(Joint, CompressionRaisesTheShearStrengthByMohrCoulomb) {
   JointState st;
   const JointTraction t = JointTractionAt(L, dn, sp, st);
   EXPECT_NEAR(t.sigma, -1e6, 1e-6);
-  EXPECT_NEAR(t.tau, 3e6 + 1e6 * std::tan(M_PI / 6),
-              1e-3); // c - sigma tan(phi)
+  EXPECT_NEAR(t.tau, 3e6 + 1e6 * std::tan(M_PI / 6), 1e-3); // c - sigma tan(phi)
   EXPECT_EQ(st.D, 0);
 }
 
-// The energy split: along any path, the work done on a joint point equals its
-// stored energy plus the sum of the dissipated energy of its evaluations.
-// Paths: pure mode I and II to rupture (all of G is dissipated, nothing
-// stored), an opening with unloading and reloading, and a mixed path with
-// compression and slip.
+// The energy split: along any path, the work done on a joint point equals its stored
+// energy plus the sum of the dissipated energy of its evaluations. Paths: pure mode I
+// and II to rupture (all of G is dissipated, nothing stored), an opening with unloading
+// and reloading, and a mixed path with compression and slip.
 namespace {
 struct PathEnergy {
   double work = 0, dissipated = 0, stored = 0;
@@ -139,13 +124,12 @@ struct PathEnergy {
 PathEnergy Walk(const JointLaw &L, double (*path)(double, double *), int n) {
   PathEnergy e;
   JointState st;
-  double s_prev = 0, dn_prev = path(0, &s_prev), sig_prev = 0, tau_prev = 0;
+  double     s_prev = 0, dn_prev = path(0, &s_prev), sig_prev = 0, tau_prev = 0;
   for (int i = 1; i <= n; ++i) {
-    double s;
-    const double dn = path((double)i / n, &s);
-    const JointTraction t = JointTractionAt(L, dn, s, st);
-    e.work += 0.5 * (sig_prev + t.sigma) * (dn - dn_prev) +
-              0.5 * (tau_prev + t.tau) * (s - s_prev);
+    double              s;
+    const double        dn = path((double)i / n, &s);
+    const JointTraction t  = JointTractionAt(L, dn, s, st);
+    e.work += 0.5 * (sig_prev + t.sigma) * (dn - dn_prev) + 0.5 * (tau_prev + t.tau) * (s - s_prev);
     e.dissipated += t.dissipated;
     dn_prev = dn, s_prev = s, sig_prev = t.sigma, tau_prev = t.tau;
   }
@@ -160,24 +144,12 @@ const JointLaw &Law() {
 
 TEST(Joint, EnergyOfModeIAndIIToRuptureIsDissipatedAsG) {
   const JointLaw &L = Law();
-  double sp, sc;
+  double          sp, sc;
   JointSlipLimits(L, 0, &sp, &sc);
   static double crit_n, crit_s;
   crit_n = L.dn_crit, crit_s = sc;
-  const PathEnergy I = Walk(
-      L,
-      [](double u, double *s) {
-        *s = 0;
-        return 1.05 * crit_n * u;
-      },
-      20000);
-  const PathEnergy II = Walk(
-      L,
-      [](double u, double *s) {
-        *s = 1.05 * crit_s * u;
-        return 0.0;
-      },
-      20000);
+  const PathEnergy I  = Walk(L, [](double u, double *s) { *s = 0; return 1.05 * crit_n * u; }, 20000);
+  const PathEnergy II = Walk(L, [](double u, double *s) { *s = 1.05 * crit_s * u; return 0.0; }, 20000);
   EXPECT_NEAR(I.dissipated, L.GI, 1e-3 * L.GI);
   EXPECT_NEAR(II.dissipated, L.GII, 1e-3 * L.GII);
   EXPECT_EQ(I.stored, 0); // broken: nothing stored
@@ -187,17 +159,13 @@ TEST(Joint, EnergyOfModeIAndIIToRuptureIsDissipatedAsG) {
 
 TEST(Joint, WorkIsStoredPlusDissipatedAlongUnloadingAndMixedPaths) {
   const JointLaw &L = Law();
-  static double pk, cr;
+  static double   pk, cr;
   pk = L.dn_peak, cr = L.dn_crit;
-  // open to 40% of the softening, close to -half the peak (compression), reopen
-  // to 70%
+  // open to 40% of the softening, close to -half the peak (compression), reopen to 70%
   auto open_close = [](double u, double *s) {
     *s = 0;
-    const double a = pk + 0.4 * (cr - pk), b = -0.5 * pk,
-                 c = pk + 0.7 * (cr - pk);
-    return u < 1.0 / 3   ? 3 * u * a
-           : u < 2.0 / 3 ? a + (b - a) * (3 * u - 1)
-                         : b + (c - b) * (3 * u - 2);
+    const double a = pk + 0.4 * (cr - pk), b = -0.5 * pk, c = pk + 0.7 * (cr - pk);
+    return u < 1.0 / 3 ? 3 * u * a : u < 2.0 / 3 ? a + (b - a) * (3 * u - 1) : b + (c - b) * (3 * u - 2);
   };
   const PathEnergy e1 = Walk(L, open_close, 30000);
   EXPECT_GT(e1.dissipated, 0.2 * L.GI);
@@ -216,19 +184,14 @@ TEST(Joint, WorkIsStoredPlusDissipatedAlongUnloadingAndMixedPaths) {
   (void)JointTractionAt(L, pk + 0.3 * (cr - pk), 0.5 * pk, st); // damage 0.3
   for (double dn : {-0.4 * pk, 0.5 * pk, 1.5 * pk}) {
     for (double s : {0.0, 0.3 * pk, 2.0 * pk}) {
-      const double h = 1e-6 * pk;
-      JointState a = st;
+      const double        h = 1e-6 * pk;
+      JointState          a = st;
       const JointTraction t = JointTractionAt(L, dn, s, a);
       ASSERT_EQ(a.D, st.D) << "inside the damage surface";
-      const double dtau = (JointStoredEnergy(L, dn, s + h, st.D) -
-                           JointStoredEnergy(L, dn, s - h, st.D)) /
-                          (2 * h);
+      const double dtau = (JointStoredEnergy(L, dn, s + h, st.D) - JointStoredEnergy(L, dn, s - h, st.D)) / (2 * h);
       EXPECT_NEAR(dtau, t.tau, 1e-6 * L.c) << "dn " << dn << " s " << s;
-      if (dn >= 0 || s == 0) { // under compression and slip the shear strength
-                               // follows sigma: no potential
-        const double dsig = (JointStoredEnergy(L, dn + h, s, st.D) -
-                             JointStoredEnergy(L, dn - h, s, st.D)) /
-                            (2 * h);
+      if (dn >= 0 || s == 0) { // under compression and slip the shear strength follows sigma: no potential
+        const double dsig = (JointStoredEnergy(L, dn + h, s, st.D) - JointStoredEnergy(L, dn - h, s, st.D)) / (2 * h);
         EXPECT_NEAR(dsig, t.sigma, 1e-6 * L.ft) << "dn " << dn << " s " << s;
       }
     }
@@ -241,14 +204,12 @@ TEST(Joint, BadInputIsNamed) {
       MakeJointLaw(m, h);
       ADD_FAILURE() << "no error for " << text;
     } catch (const InputError &e) {
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
     }
   };
   JointMaterial m = Mortar();
   m.tensile_strength = 0;
-  expect(m, 0.01,
-         "fracture material 'mortar': tensile_strength = 0 must be positive");
+  expect(m, 0.01, "fracture material 'mortar': tensile_strength = 0 must be positive");
   m = Mortar(), m.GI = -1;
   expect(m, 0.01, "G_I = -1 must be positive");
   m = Mortar(), m.GII = NAN;
@@ -256,25 +217,20 @@ TEST(Joint, BadInputIsNamed) {
   m = Mortar(), m.friction_angle = 90;
   expect(m, 0.01, "friction_angle = 90 degrees must be in [0, 90)");
   m = Mortar(), m.penalty = 1e5; // peak opening 0.2 m for h = 0.01
-  expect(m, 0.01,
-         "joint_penalty = 100000 is too small for elements of size 0.01");
+  expect(m, 0.01, "joint_penalty = 100000 is too small for elements of size 0.01");
   expect(Mortar(), 0, "the element size h = 0 must be positive");
 }
 
 namespace {
 // A right triangle of legs 0.1 m in the plane z = 0 (normal +z), B lifted by dz
 // and shifted by dx; optionally everything rotated about x by angle.
-void Pair(double dz, double dx, double angle, double xa[3][3],
-          double xb[3][3]) {
+void Pair(double dz, double dx, double angle, double xa[3][3], double xb[3][3]) {
   const double P[3][3] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}};
   const double c = std::cos(angle), s = std::sin(angle);
   for (int i = 0; i < 3; ++i) {
-    const double a[3] = {P[i][0], P[i][1], P[i][2]},
-                 b[3] = {P[i][0] + dx, P[i][1], P[i][2] + dz};
-    xa[i][0] = a[0], xa[i][1] = c * a[1] - s * a[2],
-    xa[i][2] = s * a[1] + c * a[2];
-    xb[i][0] = b[0], xb[i][1] = c * b[1] - s * b[2],
-    xb[i][2] = s * b[1] + c * b[2];
+    const double a[3] = {P[i][0], P[i][1], P[i][2]}, b[3] = {P[i][0] + dx, P[i][1], P[i][2] + dz};
+    xa[i][0] = a[0], xa[i][1] = c * a[1] - s * a[2], xa[i][2] = s * a[1] + c * a[2];
+    xb[i][0] = b[0], xb[i][1] = c * b[1] - s * b[2], xb[i][2] = s * b[1] + c * b[2];
   }
 }
 } // namespace
@@ -283,16 +239,14 @@ TEST(Joint, ElementForcesOfUniformOpeningAndSlip) {
   const JointLaw L = MakeJointLaw(Mortar(), 0.01);
   const double area = 0.005;
   for (double angle : {0.0, 0.7}) {
-    // mode I at half the peak opening: B pulled back by 0.75 f_t A along the
-    // normal
+    // mode I at half the peak opening: B pulled back by 0.75 f_t A along the normal
     double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
     JointState st[3];
     Pair(0.5 * L.dn_peak, 0, angle, xa, xb);
     JointElementForces(L, xa, xb, st, fa, fb);
     double FB[3] = {0, 0, 0}, FA[3] = {0, 0, 0};
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k)
-        FB[k] += fb[i][k], FA[k] += fa[i][k];
+      for (int k = 0; k < 3; ++k) FB[k] += fb[i][k], FA[k] += fa[i][k];
     const double nrm[3] = {0, -std::sin(angle), std::cos(angle)};
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(FB[k], -0.75e6 * area * nrm[k], 1e-6) << "angle " << angle;
@@ -307,8 +261,7 @@ TEST(Joint, ElementForcesOfUniformOpeningAndSlip) {
     JointElementForces(L, ya, yb, s2, ga, gb);
     double GB[3] = {0, 0, 0};
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k)
-        GB[k] += gb[i][k];
+      for (int k = 0; k < 3; ++k) GB[k] += gb[i][k];
     EXPECT_NEAR(GB[0], -3e6 * area, 1e-6);
     EXPECT_NEAR(GB[1], 0, 1e-6);
     EXPECT_NEAR(GB[2], 0, 1e-6);
@@ -319,11 +272,9 @@ TEST(Joint, ElementForcesBalanceAndVanishForCoincidentFaces) {
   const JointLaw L = MakeJointLaw(Mortar(), 0.01);
   // arbitrary separations: the forces on A and B cancel node by node
   double xa[3][3] = {{0, 0, 0}, {0.1, 0.01, 0}, {0.02, 0.1, 0.01}}, xb[3][3];
-  const double d[3][3] = {
-      {1e-7, -2e-7, 3e-7}, {-1e-7, 4e-7, 1e-6}, {2e-7, 1e-7, -5e-7}};
+  const double d[3][3] = {{1e-7, -2e-7, 3e-7}, {-1e-7, 4e-7, 1e-6}, {2e-7, 1e-7, -5e-7}};
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k)
-      xb[i][k] = xa[i][k] + d[i][k];
+    for (int k = 0; k < 3; ++k) xb[i][k] = xa[i][k] + d[i][k];
   double fa[3][3] = {}, fb[3][3] = {};
   JointState st[3];
   JointElementForces(L, xa, xb, st, fa, fb);
@@ -339,6 +290,5 @@ TEST(Joint, ElementForcesBalanceAndVanishForCoincidentFaces) {
   JointState s0[3];
   JointElementForces(L, xa, xa, s0, ca, cb);
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(ca[i][k], 0);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(ca[i][k], 0);
 }

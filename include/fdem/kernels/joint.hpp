@@ -1,10 +1,10 @@
-// The cohesive law of a fracture joint between two tetrahedra
-// (doc/fracture.md): Munjiza's combined single and smeared crack model. A joint
-// carries a normal traction sigma from its opening dn and a shear traction tau
-// from its slip s; up to the peak the law hardens (elastic, reversible), beyond
-// it the joint softens along Munjiza's curve z(D) with a damage D that never
-// decreases, and at D = 1 the joint is broken and carries nothing. Pure
-// functions on doubles; no PETSc, no MPI.
+// The cohesive law of a fracture joint between two tetrahedra (doc/fracture.md):
+// Munjiza's combined single and smeared crack model. A joint carries a normal
+// traction sigma from its opening dn and a shear traction tau from its slip s;
+// up to the peak the law hardens (elastic, reversible), beyond it the joint
+// softens along Munjiza's curve z(D) with a damage D that never decreases,
+// and at D = 1 the joint is broken and carries nothing. Pure functions on
+// doubles; no PETSc, no MPI.
 #pragma once
 #include <string>
 
@@ -14,8 +14,8 @@ namespace fdem::kernels {
 // [0, 1] (evaluated by JointSofteningIntegral; 0.3863 to 4 digits).
 inline constexpr double kJointA = 0.63, kJointB = 1.8, kJointC = 6.0;
 
-// z(D) = [1 - (a+b-1)/(a+b) exp(D (a+cb) / ((a+b)(1-a-b)))] [a (1-D) + b
-// (1-D)^c], z(0) = 1, z(1) = 0, decreasing. D outside [0, 1] is clamped.
+// z(D) = [1 - (a+b-1)/(a+b) exp(D (a+cb) / ((a+b)(1-a-b)))] [a (1-D) + b (1-D)^c],
+// z(0) = 1, z(1) = 0, decreasing. D outside [0, 1] is clamped.
 double JointSoftening(double D);
 // The integral of z over [0, 1] (composite Simpson, 2^12 intervals).
 double JointSofteningIntegral();
@@ -32,16 +32,14 @@ struct JointMaterial {
 
 // The law of one joint of a material in elements of size h (m): the peak and
 // critical openings and slips follow from the material (doc/fracture.md):
-//   dn_peak = 2 h f_t / p,  s_peak(sigma) = 2 h f_s / p,  f_s = max(c - sigma
-//   tan phi, 0), dn_crit = dn_peak + (G_I - 2/3 f_t dn_peak) / (f_t Z),  Z =
-//   the integral of z,
+//   dn_peak = 2 h f_t / p,  s_peak(sigma) = 2 h f_s / p,  f_s = max(c - sigma tan phi, 0),
+//   dn_crit = dn_peak + (G_I - 2/3 f_t dn_peak) / (f_t Z),  Z = the integral of z,
 // and the same for the slip with G_II, f_s; so that the whole area under the
 // curve (hardening + softening) is the fracture energy.
 struct JointLaw {
   double ft = 0, c = 0, tan_phi = 0, GI = 0, GII = 0, penalty = 0, h = 0;
   double dn_peak = 0, dn_crit = 0; // opening at the peak and at rupture, m
-  double s_span =
-      0; // s_crit - s_peak, the softening span of the slip (pure shear), m
+  double s_span = 0;               // s_crit - s_peak, the softening span of the slip (pure shear), m
 };
 
 // Checks the material and the element size and returns the law. Throws
@@ -58,13 +56,10 @@ struct JointState {
 };
 
 struct JointTraction {
-  double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the
-                    // penalty 2 f_t dn / dn_peak)
-  double tau =
-      0; // shear traction, Pa, in the direction of the slip (s >= 0 given)
-  double D = 0; // damage after this evaluation
-  double dissipated =
-      0; // energy per area (J/m^2) dissipated by this evaluation's growth of D
+  double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the penalty 2 f_t dn / dn_peak)
+  double tau = 0;   // shear traction, Pa, in the direction of the slip (s >= 0 given)
+  double D = 0;     // damage after this evaluation
+  double dissipated = 0; // energy per area (J/m^2) dissipated by this evaluation's growth of D
 };
 
 // Tractions at opening dn (m, > 0 opening) and slip magnitude s >= 0 (m).
@@ -73,28 +68,23 @@ struct JointTraction {
 // state keeps the largest D. sigma = z(D) f_t h(dn / dn_peak) in tension,
 // tau = z(D) f_s h(s / s_peak), with h(x) = 2x - x^2 for x < 1 and 1 beyond.
 // The state is updated (pass a copy to evaluate without committing).
-JointTraction JointTractionAt(const JointLaw &law, double dn, double s,
-                              JointState &state);
+JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointState &state);
 
-// The energy per area (J/m^2) a joint point stores at opening dn, slip s and
-// damage D: the free energy psi whose derivatives are the tractions
-// (doc/fracture.md),
-//   psi = z(D) [f_t dn_peak H(dn / dn_peak) + f_s s_peak H(s / s_peak)]  (dn >=
-//   0), H(x) = x^2 - x^3/3 below the peak, 2/3 + (x - 1) beyond it,
-// with the compression penalty's f_t dn^2 / dn_peak in place of the first term
-// when dn < 0. Unloading at fixed D gives it back. It is 0 at D = 1 (broken).
-// Growing the damage from D0 to D1 at fixed separation dissipates psi(D0) -
-// psi(D1): the `dissipated` of JointTractionAt, so that the work done on a
-// joint is the stored energy plus the sum of the dissipated (exactly for a pure
-// mode; under compression the shear strength follows the normal traction and
-// the split is the same to first order).
+// The energy per area (J/m^2) a joint point stores at opening dn, slip s and damage D:
+// the free energy psi whose derivatives are the tractions (doc/fracture.md),
+//   psi = z(D) [f_t dn_peak H(dn / dn_peak) + f_s s_peak H(s / s_peak)]  (dn >= 0),
+//   H(x) = x^2 - x^3/3 below the peak, 2/3 + (x - 1) beyond it,
+// with the compression penalty's f_t dn^2 / dn_peak in place of the first term when
+// dn < 0. Unloading at fixed D gives it back. It is 0 at D = 1 (broken). Growing the
+// damage from D0 to D1 at fixed separation dissipates psi(D0) - psi(D1): the
+// `dissipated` of JointTractionAt, so that the work done on a joint is the stored
+// energy plus the sum of the dissipated (exactly for a pure mode; under compression the
+// shear strength follows the normal traction and the split is the same to first order).
 double JointStoredEnergy(const JointLaw &law, double dn, double s, double D);
 
 // The slip at the shear peak and at rupture for a normal traction sigma (Pa):
-// s_peak = 2 h f_s / p; the softening span s_crit - s_peak is that of pure
-// shear.
-void JointSlipLimits(const JointLaw &law, double sigma, double *s_peak,
-                     double *s_crit);
+// s_peak = 2 h f_s / p; the softening span s_crit - s_peak is that of pure shear.
+void JointSlipLimits(const JointLaw &law, double sigma, double *s_peak, double *s_crit);
 
 } // namespace fdem::kernels
 
@@ -109,16 +99,11 @@ namespace fdem::kernels {
 // history (state[3]) and weighs a third of the mid-surface area. Adds the
 // nodal forces into fa[3][3] and fb[3][3] (fa = -fb summed: no net force) and
 // returns the largest damage. A broken point (state.broken) adds nothing.
-// When dissipated is given, the energy (J) dissipated by this evaluation's
-// growth of the points' damage is added to it.
-double JointElementForces(const JointLaw &law, const double xa[3][3],
-                          const double xb[3][3], JointState state[3],
-                          double fa[3][3], double fb[3][3],
-                          double *dissipated = nullptr);
+// When dissipated is given, the energy (J) dissipated by this evaluation's growth of
+// the points' damage is added to it.
+double JointElementForces(const JointLaw &law, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated = nullptr);
 // The energy (J) the joint element stores at these positions (JointStoredEnergy
-// at its three points, each weighing a third of the mid-surface area); no state
-// change.
-double JointElementEnergy(const JointLaw &law, const double xa[3][3],
-                          const double xb[3][3], const JointState state[3]);
+// at its three points, each weighing a third of the mid-surface area); no state change.
+double JointElementEnergy(const JointLaw &law, const double xa[3][3], const double xb[3][3], const JointState state[3]);
 
 } // namespace fdem::kernels
