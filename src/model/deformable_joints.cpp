@@ -172,7 +172,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   d->jlaw.resize(mycnt);
   d->jstate.assign(mycnt, {});
   d->jgid.resize(mycnt);
-  d->jdissipated = 0;
+  d->jdiss.assign(mycnt, 0);
   std::vector<PetscSFNode> remote(9 * (size_t)mycnt);
   for (PetscMPIInt j = 0; j < mycnt; ++j) {
     const PetscInt *I = &imine[NI * (size_t)j];
@@ -222,7 +222,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
         xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
         xb[i][k] = d->jxb[9 * j + 3 * i + k];
       }
-    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdissipated);
+    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdiss[j]);
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) {
         fl[3 * d->jnode_a[j][i] + k] += fa[i][k];
@@ -237,7 +237,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
 PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *stored, PetscReal *dissipated) {
   StateView          sv;
   const PetscScalar *xl;
-  PetscReal          loc[2] = {0, d->jdissipated}, glob[2] = {0, 0};
+  PetscReal          loc[2] = {0, 0}, glob[2] = {0, 0};
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetJointEnergy"));
   if (d->njoints_global > 0) {
@@ -255,6 +255,7 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
           xb[i][k] = d->jxb[9 * j + 3 * i + k];
         }
       loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
+      loc[1] += d->jdiss[j];
     }
     PetscCall(VecRestoreArrayRead(d->xloc, &xl));
     PetscCall(MPIU_Allreduce(loc, glob, 2, MPIU_REAL, MPIU_SUM, d->comm));
@@ -264,96 +265,89 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
   PetscFunctionReturn(0);
 }
 
-// The joints' damage in the split's joint order: a Vec of 3 entries per joint (its points),
-// laid out by PETSc, and the scatter from this rank's joints into it.
-static PetscErrorCode JointDamageLayout(FDEMDeformable d, Vec *nat, Vec *mine, VecScatter *sc) {
+// A per-joint field in the split's joint order (per values per joint), laid out by PETSc,
+// and the scatter from this rank's joints into it: the rank-count independent form of the
+// joints' state in checkpoints.
+static PetscErrorCode JointFieldLayout(FDEMDeformable d, const char *name, PetscInt per, Vec *nat, Vec *mine, VecScatter *sc) {
   IS idx;
   PetscFunctionBegin;
   const PetscInt        n = (PetscInt)d->jgid.size();
-  std::vector<PetscInt> ids(3 * (size_t)n);
+  std::vector<PetscInt> ids(per * (size_t)n);
   for (PetscInt j = 0; j < n; ++j)
-    for (int q = 0; q < 3; ++q) ids[3 * j + q] = 3 * d->jgid[j] + q;
-  PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, 3 * d->njoints_global, nat));
-  PetscCall(PetscObjectSetName((PetscObject)*nat, "joint_damage"));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * n, mine));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, 3 * n, ids.data(), PETSC_COPY_VALUES, &idx));
+    for (PetscInt q = 0; q < per; ++q) ids[per * j + q] = per * d->jgid[j] + q;
+  PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, per * d->njoints_global, nat));
+  PetscCall(PetscObjectSetName((PetscObject)*nat, name));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, per * n, mine));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, per * n, ids.data(), PETSC_COPY_VALUES, &idx));
   PetscCall(VecScatterCreate(*mine, nullptr, *nat, idx, sc));
   PetscCall(ISDestroy(&idx));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer) {
-  Vec          nat, mine, diss;
+// Writes (load = false) or reads the field `name`: this rank's values `mine_values` (per
+// per joint) to or from the viewer; on reading, checks the saved size.
+static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load) {
+  Vec          nat, mine;
   VecScatter   sc;
   PetscScalar *a;
-  PetscReal    total;
   PetscFunctionBegin;
-  PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
-  if (d->njoints_global == 0) PetscFunctionReturn(0);
-  PetscCall(JointDamageLayout(d, &nat, &mine, &sc));
-  PetscCall(VecGetArray(mine, &a));
-  for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) a[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
-  PetscCall(VecRestoreArray(mine, &a));
-  PetscCall(VecScatterBegin(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecView(nat, viewer));
-  // the dissipated energy, one value (the sum over ranks)
-  PetscCallMPI(MPIU_Allreduce(&d->jdissipated, &total, 1, MPIU_REAL, MPIU_SUM, d->comm));
-  PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &diss));
-  PetscCall(PetscObjectSetName((PetscObject)diss, "joint_dissipated"));
-  if (d->rank == 0) PetscCall(VecSetValue(diss, 0, total, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(diss));
-  PetscCall(VecAssemblyEnd(diss));
-  PetscCall(VecView(diss, viewer));
-  PetscCall(VecDestroy(&diss));
+  PetscCall(JointFieldLayout(d, name, per, &nat, &mine, &sc));
+  const PetscInt n = per * (PetscInt)d->jgid.size();
+  if (!load) {
+    PetscCall(VecGetArray(mine, &a));
+    for (PetscInt i = 0; i < n; ++i) a[i] = values[i];
+    PetscCall(VecRestoreArray(mine, &a));
+    PetscCall(VecScatterBegin(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecView(nat, viewer));
+  } else {
+    PetscInt N;
+    PetscCall(VecLoad(nat, viewer));
+    PetscCall(VecGetSize(nat, &N));
+    PetscCheck(N == per * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved %s has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x %" PetscInt_FMT " (another scene?)", name, N, d->njoints_global, per);
+    PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecGetArray(mine, &a));
+    for (PetscInt i = 0; i < n; ++i) values[i] = PetscRealPart(a[i]);
+    PetscCall(VecRestoreArray(mine, &a));
+  }
   PetscCall(VecScatterDestroy(&sc));
   PetscCall(VecDestroy(&mine));
   PetscCall(VecDestroy(&nat));
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
+  std::vector<PetscReal> D(3 * d->jstate.size());
+  for (std::size_t j = 0; j < d->jstate.size(); ++j)
+    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
+  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
+  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer) {
-  Vec                nat, mine, diss;
-  VecScatter         sc;
-  const PetscScalar *a;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
-  PetscCall(JointDamageLayout(d, &nat, &mine, &sc));
-  PetscCall(VecLoad(nat, viewer));
-  PetscInt n;
-  PetscCall(VecGetSize(nat, &n));
-  PetscCheck(n == 3 * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved joint_damage has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x 3 points (another scene?)", n, d->njoints_global);
-  PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecGetArrayRead(mine, &a));
+  std::vector<PetscReal> D(3 * d->jstate.size());
+  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true));
+  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
   PetscInt bad = -1;
-  for (std::size_t j = 0; j < d->jstate.size(); ++j)
+  for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     for (int q = 0; q < 3; ++q) {
-      const PetscReal D = PetscRealPart(a[3 * j + q]);
-      if (!(D >= 0 && D <= 1) && bad < 0) bad = d->jgid[j];
-      d->jstate[j][q].D      = D;
-      d->jstate[j][q].broken = D >= 1;
+      const PetscReal v = D[3 * j + q];
+      if (!(v >= 0 && v <= 1) && bad < 0) bad = d->jgid[j];
+      d->jstate[j][q].D      = v;
+      d->jstate[j][q].broken = v >= 1;
     }
-  PetscCall(VecRestoreArrayRead(mine, &a));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage outside [0, 1] in the saved joint_damage", bad);
-  PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &diss));
-  PetscCall(PetscObjectSetName((PetscObject)diss, "joint_dissipated"));
-  PetscCall(VecLoad(diss, viewer));
-  {
-    const PetscScalar *v;
-    PetscInt           nl;
-    PetscCall(VecGetLocalSize(diss, &nl));
-    PetscCall(VecGetArrayRead(diss, &v));
-    d->jdissipated = nl > 0 ? PetscRealPart(v[0]) : 0; // rank 0 holds the sum
-    PetscCall(VecRestoreArrayRead(diss, &v));
+    if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
-  PetscCall(VecDestroy(&diss));
-  PetscCall(VecScatterDestroy(&sc));
-  PetscCall(VecDestroy(&mine));
-  PetscCall(VecDestroy(&nat));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
   PetscFunctionReturn(0);
 }
 

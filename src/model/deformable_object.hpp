@@ -91,7 +91,7 @@ struct _n_FDEMDeformable {
   std::vector<fdem::kernels::JointLaw>    jlaw;           // their laws
   std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
   std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
-  PetscReal                               jdissipated = 0; // energy dissipated by this rank's joints so far, J
+  std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J
   PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
   std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
 };
