@@ -4,14 +4,14 @@
 
    Life cycle
      FDEMDeformableCreate(comm, &dfm);
-     FDEMDeformableAddMaterial(dfm, "steel", E, nu, rho, mu_visc,
-   FDEM_MATERIAL_MUNJIZA_CST); FDEMDeformableSetMeshBeam(dfm, L, W, H, n); (or
-   Box, Cylinder, FromGmsh, SetMesh) FDEMDeformableSetBodyMaterial(dfm, "beam",
-   "steel"); (optional, see below) FDEMDeformableSetFromOptions(dfm);
-     FDEMDeformableSetUp(dfm);            METIS partition on rank 0, DMPlex,
-   distribution FDEMDeformableFixNodesInBox(...);
-   FDEMDeformableSetVelocityField(...); FDEMDeformableSetUpTS(dfm, ts, &U);
-   splits as for -ts_type basicsymplectic TSSolve(ts, U);
+     FDEMDeformableAddMaterial(dfm, "steel", E, nu, rho, mu_visc, FDEM_MATERIAL_MUNJIZA_CST);
+     FDEMDeformableSetMeshBeam(dfm, L, W, H, n);        (or Box, Cylinder, FromGmsh, SetMesh)
+     FDEMDeformableSetBodyMaterial(dfm, "beam", "steel"); (optional, see below)
+     FDEMDeformableSetFromOptions(dfm);
+     FDEMDeformableSetUp(dfm);            METIS partition on rank 0, DMPlex, distribution
+     FDEMDeformableFixNodesInBox(...); FDEMDeformableSetVelocityField(...);
+     FDEMDeformableSetUpTS(dfm, ts, &U);  splits as for -ts_type basicsymplectic
+     TSSolve(ts, U);
 
    Meshes are given on rank 0 (the arguments of the mesh setters are read on
    rank 0 only; other ranks may pass empty arrays). Node and element ids are
@@ -43,11 +43,7 @@ typedef struct _n_FDEMDeformable *FDEMDeformable;
 
 /* Constitutive models (doc/element.md): book eq 4.220, compressible
    neo-Hookean, and the (non-objective) small-strain linear tetrahedron. */
-typedef enum {
-  FDEM_MATERIAL_MUNJIZA_CST = 0,
-  FDEM_MATERIAL_NEO_HOOKEAN = 1,
-  FDEM_MATERIAL_SMALL_STRAIN_LINEAR = 2
-} FDEMMaterialModel;
+typedef enum { FDEM_MATERIAL_MUNJIZA_CST = 0, FDEM_MATERIAL_NEO_HOOKEAN = 1, FDEM_MATERIAL_SMALL_STRAIN_LINEAR = 2 } FDEMMaterialModel;
 PETSC_EXTERN const char *const FDEMMaterialModels[];
 
 /* Extra nodal forces (contact, loads): add into floc, a local vector (3 per
@@ -55,28 +51,17 @@ PETSC_EXTERN const char *const FDEMMaterialModels[];
    DMLocalToGlobal(ADD_VALUES): add each force on one rank only. xloc, vloc:
    current positions and velocities of the local nodes (vloc may be NULL when
    no material is viscous). */
-typedef PetscErrorCode (*FDEMDeformableForceFn)(FDEMDeformable dfm, PetscReal t,
-                                                Vec xloc, Vec vloc, Vec floc,
-                                                void *ctx);
-/* A nodal field from the reference position X of node `id` (initial velocity or
-   position); `id` is the input mesh's node id (for a split fracturable body:
-   the node it was copied from). */
-typedef PetscErrorCode (*FDEMDeformableFieldFn)(PetscInt id,
-                                                const PetscReal X[3],
-                                                PetscReal out[3], void *ctx);
+typedef PetscErrorCode (*FDEMDeformableForceFn)(FDEMDeformable dfm, PetscReal t, Vec xloc, Vec vloc, Vec floc, void *ctx);
+/* A nodal field from the reference position X of node `id` (initial velocity or position);
+   `id` is the input mesh's node id (for a split fracturable body: the node it was copied from). */
+typedef PetscErrorCode (*FDEMDeformableFieldFn)(PetscInt id, const PetscReal X[3], PetscReal out[3], void *ctx);
 
-PETSC_EXTERN PetscErrorCode FDEMDeformableCreate(MPI_Comm comm,
-                                                 FDEMDeformable *dfm);
+PETSC_EXTERN PetscErrorCode FDEMDeformableCreate(MPI_Comm comm, FDEMDeformable *dfm);
 PETSC_EXTERN PetscErrorCode FDEMDeformableDestroy(FDEMDeformable *dfm);
 
-/* Material table. Checked at once (E > 0, -1 < nu < 0.5, rho > 0, mu_visc >=
- * 0). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableAddMaterial(
-    FDEMDeformable dfm, const char *name, PetscReal E, PetscReal nu,
-    PetscReal rho, PetscReal mu_visc, FDEMMaterialModel model);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetBodyMaterial(FDEMDeformable dfm,
-                                                          const char *body,
-                                                          const char *material);
+/* Material table. Checked at once (E > 0, -1 < nu < 0.5, rho > 0, mu_visc >= 0). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddMaterial(FDEMDeformable dfm, const char *name, PetscReal E, PetscReal nu, PetscReal rho, PetscReal mu_visc, FDEMMaterialModel model);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetBodyMaterial(FDEMDeformable dfm, const char *body, const char *material);
 
 /* Meshes (one per object; a later call replaces the earlier). SetMesh: nodes
    3 per node, tets 4 per tetrahedron with positive volume det[x1-x0, x2-x0,
@@ -85,92 +70,58 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetBodyMaterial(FDEMDeformable dfm,
    beam [0,L]x[0,W]x[0,H] with n cells across the smallest side ("beam");
    cylinder of axis z ("cylinder"). Gmsh: physical volumes or connected
    components become bodies (fdem::kernels::ReadGmsh). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMesh(
-    FDEMDeformable dfm, PetscInt nnodes, const PetscReal nodes[],
-    PetscInt ntets, const PetscInt tets[], const PetscInt body[],
-    PetscInt nbodies, const char *const body_names[]);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBox(FDEMDeformable dfm,
-                                                     const PetscReal lo[3],
-                                                     const PetscReal hi[3],
-                                                     PetscInt nx, PetscInt ny,
-                                                     PetscInt nz);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBeam(FDEMDeformable dfm,
-                                                      PetscReal L, PetscReal W,
-                                                      PetscReal H, PetscInt n);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm,
-                                                          PetscReal radius,
-                                                          PetscReal height,
-                                                          PetscInt n_radial,
-                                                          PetscInt n_axial);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm,
-                                                          const char *path);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMesh(FDEMDeformable dfm, PetscInt nnodes, const PetscReal nodes[], PetscInt ntets, const PetscInt tets[], const PetscInt body[], PetscInt nbodies, const char *const body_names[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBox(FDEMDeformable dfm, const PetscReal lo[3], const PetscReal hi[3], PetscInt nx, PetscInt ny, PetscInt nz);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshBeam(FDEMDeformable dfm, PetscReal L, PetscReal W, PetscReal H, PetscInt n);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm, PetscReal radius, PetscReal height, PetscInt n_radial, PetscInt n_axial);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, const char *path);
 
-/* Fracture (doc/fracture.md): the bodies of `material` become fracturable. At
-   set-up each of their tetrahedra gets its own four nodes and every face two of
-   them shared becomes a joint held by the cohesive law: tensile strength f_t
-   (Pa), cohesion c (Pa), friction angle (degrees), fracture energies G_I and
-   G_II (J/m^2) and the joint penalty (Pa). The split renumbers the nodes of
-   those bodies; FixNodes, MoveNodes and the field callbacks still use the input
-   mesh's ids (an input node stands for all its copies), while node ids and
-   counts that the library reports are those of the split mesh. Joints that
-   straddle ranks are computed by the rank of one side. A joint is broken when
-   all three of its points are; its two faces then become contact surfaces of
-   the contact engine (FDEMDeformableContact and a scene's rigid-deformable
-   contact) and the body may fall into fragments (FDEMDeformableGetFragments).
-   Not yet: joint energy in GetEnergy, joint state in checkpoints. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(
-    FDEMDeformable dfm, const char *material, PetscReal tensile_strength,
-    PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII,
-    PetscReal joint_penalty);
-/* After set-up: the number of joints, of joints broken at all three points, and
-   the largest damage reached (collective). */
-/* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0
-   without joints): max over nodes of sqrt(2 K / m), K the joint stiffness p A /
-   (3 h) per point summed at the node, m its mass. A time step with omega_j dt
-   above half the scheme's K_crit is warned at the first evaluation of a TS (the
-   limit measured in test_fracture_bar: doc/fracture.md). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm,
-                                                            PetscReal *omega);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm,
-                                                        PetscInt *joints,
-                                                        PetscInt *broken,
-                                                        PetscReal *max_damage);
-/* Fragments: the connected components of the tetrahedra of each body, two
-   tetrahedra being connected when they share a node or are held by a joint that
-   is not broken (an unsplit body, or a fracturable one with no crack through
-   it, is one fragment). Collective, at the state U (NULL: the stored state).
-   *count gets the number of fragments; *fragments (may be NULL) gets an array
-   of them, allocated with PetscMalloc1 (free it with PetscFree), ordered by
-   body and then by the smallest element id in the fragment, which is the same
-   on any number of ranks. */
+/* Fracture (doc/fracture.md): the bodies of `material` become fracturable. At set-up
+   each of their tetrahedra gets its own four nodes and every face two of them shared
+   becomes a joint held by the cohesive law: tensile strength f_t (Pa), cohesion c (Pa),
+   friction angle (degrees), fracture energies G_I and G_II (J/m^2) and the joint penalty
+   (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field
+   callbacks still use the input mesh's ids (an input node stands for all its copies), while node ids and
+   counts that the library reports are those of the split mesh. Joints that straddle
+   ranks are computed by the rank of one side. A joint is broken when all three of its
+   points are; its two faces then become contact surfaces of the contact engine
+   (FDEMDeformableContact and a scene's rigid-deformable contact) and the body may fall
+   into fragments (FDEMDeformableGetFragments). Not yet: joint energy in GetEnergy, joint
+   state in checkpoints. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
+/* After set-up: the number of joints, of joints broken at all three points, and the
+   largest damage reached (collective). */
+/* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
+   max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
+   node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at
+   the first evaluation of a TS (the limit measured in test_fracture_bar: doc/fracture.md). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm, PetscReal *omega);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
+/* Fragments: the connected components of the tetrahedra of each body, two tetrahedra being
+   connected when they share a node or are held by a joint that is not broken (an unsplit
+   body, or a fracturable one with no crack through it, is one fragment). Collective, at the
+   state U (NULL: the stored state). *count gets the number of fragments; *fragments (may be
+   NULL) gets an array of them, allocated with PetscMalloc1 (free it with PetscFree), ordered
+   by body and then by the smallest element id in the fragment, which is the same on any
+   number of ranks. */
 typedef struct {
-  PetscInt
-      body; /* the body the fragment belongs to (FDEMDeformableGetBodyName) */
-  PetscInt cells; /* its tetrahedra */
-  PetscReal mass; /* the sum of its nodes' lumped masses */
-  PetscReal x[3]; /* its centre of mass */
-  PetscReal v[3]; /* the velocity of its centre of mass (momentum / mass) */
+  PetscInt  body;  /* the body the fragment belongs to (FDEMDeformableGetBodyName) */
+  PetscInt  cells; /* its tetrahedra */
+  PetscReal mass;  /* the sum of its nodes' lumped masses */
+  PetscReal x[3];  /* its centre of mass */
+  PetscReal v[3];  /* the velocity of its centre of mass (momentum / mass) */
 } FDEMFragment;
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetFragments(
-    FDEMDeformable dfm, Vec U, PetscInt *count, FDEMFragment *fragments[]);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm,
-                                                     const PetscReal g[3]);
-/* Force terms chain: each added function adds its nodal forces to floc at every
-   force evaluation, in the order added (a user's load, contact, ...); none
-   replaces another. RemoveForce removes the term (fn, ctx). SetExternalForce is
-   AddForce under its old name. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableAddForce(FDEMDeformable dfm,
-                                                   FDEMDeformableForceFn fn,
-                                                   void *ctx);
-PETSC_EXTERN PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable dfm,
-                                                      FDEMDeformableForceFn fn,
-                                                      void *ctx);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalForce(
-    FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable dfm, Vec U, PetscInt *count, FDEMFragment *fragments[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
+/* Force terms chain: each added function adds its nodal forces to floc at every force
+   evaluation, in the order added (a user's load, contact, ...); none replaces another.
+   RemoveForce removes the term (fn, ctx). SetExternalForce is AddForce under its old name. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable dfm, FDEMDeformableForceFn fn, void *ctx);
 /* -fdem_deformable_gravity gx,gy,gz
-   -fdem_deformable_partition metis|simple   (simple: contiguous blocks of
-   elements, for comparison) -fdem_deformable_view                     (prints
-   sizes and the partition balance) */
+   -fdem_deformable_partition metis|simple   (simple: contiguous blocks of elements, for comparison)
+   -fdem_deformable_view                     (prints sizes and the partition balance) */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable dfm);
 
 /* Collective. Validates the mesh and materials on rank 0 (errors name the
@@ -183,123 +134,73 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable dfm);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetUp(FDEMDeformable dfm);
 
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetDM(FDEMDeformable dfm, DM *dm);
-/* Local (this rank's) and global counts of cells and nodes (owned nodes for
- * nlocal). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetSizes(FDEMDeformable dfm,
-                                                   PetscInt *cells_local,
-                                                   PetscInt *cells_global,
-                                                   PetscInt *nodes_owned,
-                                                   PetscInt *nodes_global);
-/* Global ids of the owned nodes, in the order of the DM's global vectors
- * (borrowed). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeIds(FDEMDeformable dfm,
-                                                     PetscInt *n,
-                                                     const PetscInt *ids[]);
+/* Local (this rank's) and global counts of cells and nodes (owned nodes for nlocal). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetSizes(FDEMDeformable dfm, PetscInt *cells_local, PetscInt *cells_global, PetscInt *nodes_owned, PetscInt *nodes_global);
+/* Global ids of the owned nodes, in the order of the DM's global vectors (borrowed). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeIds(FDEMDeformable dfm, PetscInt *n, const PetscInt *ids[]);
 /* The DM's global vectors (borrowed; 3 entries per owned node): current
    positions x, velocities v, reference positions X, lumped masses m (same in
    all three entries of a node). Changing x or v changes the initial state of
    the next FDEMDeformableSetUpTS. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetPositions(FDEMDeformable dfm,
-                                                       Vec *x);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetVelocities(FDEMDeformable dfm,
-                                                        Vec *v);
-PETSC_EXTERN PetscErrorCode
-FDEMDeformableGetReferencePositions(FDEMDeformable dfm, Vec *X);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetPositions(FDEMDeformable dfm, Vec *x);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetVelocities(FDEMDeformable dfm, Vec *v);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetReferencePositions(FDEMDeformable dfm, Vec *X);
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetMasses(FDEMDeformable dfm, Vec *m);
 /* Sets x (or v) of every node from its reference position. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetPositionField(
-    FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetVelocityField(
-    FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetPositionField(FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetVelocityField(FDEMDeformable dfm, FDEMDeformableFieldFn fn, void *ctx);
 
 /* Fixed nodes (Dirichlet: their force is zeroed and their velocity set to 0).
    By global id (any rank may list any id) or every node whose reference
    position lies in the box [lo, hi]. *nfixed (may be NULL) gets the global
    number of fixed nodes. Collective. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable dfm,
-                                                   PetscInt n,
-                                                   const PetscInt ids[],
-                                                   PetscInt *nfixed);
-PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable dfm,
-                                                        const PetscReal lo[3],
-                                                        const PetscReal hi[3],
-                                                        PetscInt *nfixed);
-/* Moved nodes (a prescribed-velocity boundary): the listed nodes (global ids,
-   any rank may list any id) keep the velocity v for ever, their positions
-   advance with it; like fixed nodes they get no acceleration. *nmoved (may be
-   NULL): the number of ids listed that exist. The work the held motion does on
-   the rest, the integral of sum R . v over the force evaluations (R =
-   -(internal + external + gravity force) of the node; trapezoidal rule in time,
-   exact for the impulses of the central-difference scheme), is given by
-   GetExternalWork (collective); SetExternalWork restores it on restart.
-   Collective. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableMoveNodes(FDEMDeformable dfm,
-                                                    PetscInt n,
-                                                    const PetscInt ids[],
-                                                    const PetscReal v[3],
-                                                    PetscInt *nmoved);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetExternalWork(FDEMDeformable dfm,
-                                                          PetscReal *W);
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalWork(FDEMDeformable dfm,
-                                                          PetscReal W);
+PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodes(FDEMDeformable dfm, PetscInt n, const PetscInt ids[], PetscInt *nfixed);
+PETSC_EXTERN PetscErrorCode FDEMDeformableFixNodesInBox(FDEMDeformable dfm, const PetscReal lo[3], const PetscReal hi[3], PetscInt *nfixed);
+/* Moved nodes (a prescribed-velocity boundary): the listed nodes (global ids, any rank may
+   list any id) keep the velocity v for ever, their positions advance with it; like fixed
+   nodes they get no acceleration. *nmoved (may be NULL): the number of ids listed that
+   exist. The work the held motion does on the rest, the integral of sum R . v over the
+   force evaluations (R = -(internal + external + gravity force) of the node; trapezoidal
+   rule in time, exact for the impulses of the central-difference scheme), is given by
+   GetExternalWork (collective); SetExternalWork restores it on restart. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableMoveNodes(FDEMDeformable dfm, PetscInt n, const PetscInt ids[], const PetscReal v[3], PetscInt *nmoved);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetExternalWork(FDEMDeformable dfm, PetscReal *W);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetExternalWork(FDEMDeformable dfm, PetscReal W);
 
 /* Assembled nodal forces at the state U (a TS state [x | v] from
    FDEMDeformableSetUpTS, or NULL for the stored x, v): F = f_int + f_ext
-   (no gravity, no division by mass, fixed nodes included), a DM global vector.
- */
-PETSC_EXTERN PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable dfm,
-                                                        PetscReal t, Vec U,
-                                                        Vec F);
+   (no gravity, no division by mass, fixed nodes included), a DM global vector. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable dfm, PetscReal t, Vec U, Vec F);
 /* Cauchy stress of every local cell (xx, yy, zz, xy, yz, xz): *S is created,
    6 entries per local cell in the order of FDEMDeformableGetCellIds. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableComputeCellStress(FDEMDeformable dfm,
-                                                            Vec U, Vec *S);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetCellIds(FDEMDeformable dfm,
-                                                     PetscInt *n,
-                                                     const PetscInt *ids[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableComputeCellStress(FDEMDeformable dfm, Vec U, Vec *S);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetCellIds(FDEMDeformable dfm, PetscInt *n, const PetscInt *ids[]);
 
 /* Sets the splits, the RHS functions and the solution of ts; creates *U from
    the stored x, v. The TS must not outlive dfm. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable dfm, TS ts,
-                                                  Vec *U);
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable dfm, TS ts, Vec *U);
 /* Copies a state U back into the stored x, v (U is kept). */
-PETSC_EXTERN PetscErrorCode FDEMDeformableRestoreState(FDEMDeformable dfm,
-                                                       Vec U);
+PETSC_EXTERN PetscErrorCode FDEMDeformableRestoreState(FDEMDeformable dfm, Vec U);
 
 /* Collective diagnostics at U (NULL: stored state). Kinetic energy, strain
    energy (exact potential for neo_hookean and small_strain_linear; for
    munjiza_cst, which is Cauchy-elastic but not hyperelastic, the neo-Hookean
    potential with the same G and K, equal to third order in the strain) and
    gravity potential -sum m g.x. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetEnergy(FDEMDeformable dfm, Vec U,
-                                                    PetscReal *kinetic,
-                                                    PetscReal *strain,
-                                                    PetscReal *gravity);
-/* Total mass, centre of mass, linear momentum and angular momentum about the
- * origin. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetMomentum(FDEMDeformable dfm, Vec U,
-                                                      PetscReal *mass,
-                                                      PetscReal com[3],
-                                                      PetscReal P[3],
-                                                      PetscReal L[3]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetEnergy(FDEMDeformable dfm, Vec U, PetscReal *kinetic, PetscReal *strain, PetscReal *gravity);
+/* Total mass, centre of mass, linear momentum and angular momentum about the origin. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetMomentum(FDEMDeformable dfm, Vec U, PetscReal *mass, PetscReal com[3], PetscReal P[3], PetscReal L[3]);
 /* Position and velocity of node `id` (global id), wherever it lives. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeState(FDEMDeformable dfm,
-                                                       Vec U, PetscInt id,
-                                                       PetscReal x[3],
-                                                       PetscReal v[3]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetNodeState(FDEMDeformable dfm, Vec U, PetscInt id, PetscReal x[3], PetscReal v[3]);
 /* Smallest det F over all elements and the global id of that element. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetMinJacobian(FDEMDeformable dfm,
-                                                         Vec U, PetscReal *Jmin,
-                                                         PetscInt *element);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetMinJacobian(FDEMDeformable dfm, Vec U, PetscReal *Jmin, PetscInt *element);
 
 /* HDF5 + XDMF output of the deforming mesh at U (NULL: stored state): group
    /step_NNNNNN of base.h5 with vertices (current positions), displacement,
    velocity, cells (global vertex numbers), body, rank and stress (per cell);
    base.xmf (rewritten by rank 0 at each call) is a temporal collection that
    ParaView opens. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable dfm, Vec U,
-                                                    const char *base,
-                                                    PetscInt step, PetscReal t);
+PETSC_EXTERN PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable dfm, Vec U, const char *base, PetscInt step, PetscReal t);
 
 /* ---- developer section ---------------------------------------------------
    For code built on FDEMDeformable (contact, scenes); not needed to run a
@@ -310,13 +211,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable dfm, Vec U,
    local node; any array may be NULL (call first with NULL arrays for the
    sizes). GetBodyName: the name of body `body` ("?" if out of range) and the
    number of bodies. Both after FDEMDeformableSetUp. */
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(
-    FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[],
-    PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
-PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm,
-                                                      PetscInt body,
-                                                      PetscInt *nbodies,
-                                                      const char **name);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalCells(FDEMDeformable dfm, PetscInt *ncells, PetscInt *nlocal, PetscInt conn[], PetscInt body[], PetscInt cell_gid[], PetscInt node_gid[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetBodyName(FDEMDeformable dfm, PetscInt body, PetscInt *nbodies, const char **name);
 
 #if defined(__cplusplus)
 }

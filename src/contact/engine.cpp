@@ -1,11 +1,11 @@
-// The contact engine: search, ghosts, pair loop, checks and statistics for
-// every pair of body kinds (see engine.hpp and doc/contact_engine.md).
+// The contact engine: search, ghosts, pair loop, checks and statistics for every
+// pair of body kinds (see engine.hpp and doc/contact_engine.md).
 #include "engine.hpp"
 #include "../util/guard.hpp"
 #include "../util/halo.hpp"
 #include "params.hpp"
-#include <fdem/kernels/nbs.hpp>
 #include <fdem/ts.h>
+#include <fdem/kernels/nbs.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -13,21 +13,19 @@
 
 namespace fdem::contact {
 namespace {
-PetscClassId CLASSID = 0;
+PetscClassId  CLASSID = 0;
 PetscLogEvent EV_LIST = 0, EV_GHOST = 0, EV_SEARCH = 0, EV_FORCE = 0;
 
-// A rank's region: NGROUP groups of NBOX boxes each, from a k-d split of the
-// bounding boxes of its primitives (group 0: those of moving bodies up to twice
-// the median size; group 1: the larger ones, which would otherwise swell the
-// small boxes; group 2: those of fixed bodies, such as a wall's); BW numbers
-// per box: lo(3), -hi(3) (empty: +inf), the body and the kind of all its
-// primitives (-1: several), the bit mask of the kinds in it and whether it
-// holds a primitive of a body that moves.
+// A rank's region: NGROUP groups of NBOX boxes each, from a k-d split of the bounding boxes of
+// its primitives (group 0: those of moving bodies up to twice the median size; group 1: the
+// larger ones, which would otherwise swell the small boxes; group 2: those of fixed bodies, such
+// as a wall's); BW numbers per box: lo(3), -hi(3) (empty: +inf), the body and the kind of all its
+// primitives (-1: several), the bit mask of the kinds in it and whether it holds a primitive of a
+// body that moves.
 constexpr int NBOX_DEPTH = 3, NBOX = 1 << NBOX_DEPTH, NGROUP = 3, BW = 10;
 
-// Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by its margin:
-// until the next search (no vertex moved more than its margin) the tetrahedron
-// stays inside it.
+// Axis-aligned bounding box lo(3), hi(3) of a tetrahedron, grown by its margin: until the next
+// search (no vertex moved more than its margin) the tetrahedron stays inside it.
 void Box(const Tet4 &T, double half_buffer, double b[6]) {
   for (int k = 0; k < 3; ++k) {
     double lo = T[0][k], hi = T[0][k];
@@ -35,84 +33,65 @@ void Box(const Tet4 &T, double half_buffer, double b[6]) {
       lo = std::min(lo, T[v][k]);
       hi = std::max(hi, T[v][k]);
     }
-    b[k] = lo - half_buffer;
+    b[k]     = lo - half_buffer;
     b[3 + k] = hi + half_buffer;
   }
 }
 
-// The four face planes of a tetrahedron, outward unit normal n and offset d
-// (n.x = d on the face): pl[4 k .. 4 k + 3] = (n, d) of the face opposite
-// vertex k. A zero-area face gives NaN, which no test below passes.
+// The four face planes of a tetrahedron, outward unit normal n and offset d (n.x = d on the
+// face): pl[4 k .. 4 k + 3] = (n, d) of the face opposite vertex k. A zero-area face gives NaN,
+// which no test below passes.
 void FacePlanes(const Tet4 &T, double pl[16]) {
   for (int k = 0; k < 4; ++k) {
     const Vec3 &p = T[(k + 1) % 4], &q = T[(k + 2) % 4], &r = T[(k + 3) % 4];
-    Vec3 n = cross(q - p, r - p);
-    n = (1.0 / norm(n)) * n;
-    if (dot(n, T[k] - p) > 0)
-      n = -1.0 * n;
-    for (int d = 0; d < 3; ++d)
-      pl[4 * k + d] = n[d];
+    Vec3        n = cross(q - p, r - p);
+    n             = (1.0 / norm(n)) * n;
+    if (dot(n, T[k] - p) > 0) n = -1.0 * n;
+    for (int d = 0; d < 3; ++d) pl[4 * k + d] = n[d];
     pl[4 * k + 3] = dot(n, p);
   }
 }
 
-// Is every vertex of b farther than gap beyond one face plane of a? Then a and
-// b stay apart as long as a's vertices move less than m_a and b's less than m_b
-// with m_a + m_b <= gap: a stays within m_a of the plane's inner side, b beyond
-// gap - m_b.
+// Is every vertex of b farther than gap beyond one face plane of a? Then a and b stay apart as
+// long as a's vertices move less than m_a and b's less than m_b with m_a + m_b <= gap: a stays
+// within m_a of the plane's inner side, b beyond gap - m_b.
 bool BeyondAFace(const double pa[16], const Tet4 &b, double gap) {
   for (int k = 0; k < 4; ++k) {
     const double *n = pa + 4 * k;
-    bool all = true;
-    for (int v = 0; v < 4 && all; ++v)
-      all = n[0] * b[v][0] + n[1] * b[v][1] + n[2] * b[v][2] - n[3] > gap;
-    if (all)
-      return true;
+    bool          all = true;
+    for (int v = 0; v < 4 && all; ++v) all = n[0] * b[v][0] + n[1] * b[v][1] + n[2] * b[v][2] - n[3] > gap;
+    if (all) return true;
   }
   return false;
 }
 
-// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no
-// contact force.)
+// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
 bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
   for (int k = 0; k < 3; ++k) {
-    const double alo =
-        std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
-    const double ahi =
-        std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
-    const double blo =
-        std::min(std::min(b[0][k], b[1][k]), std::min(b[2][k], b[3][k]));
-    const double bhi =
-        std::max(std::max(b[0][k], b[1][k]), std::max(b[2][k], b[3][k]));
-    if (alo > bhi || blo > ahi)
-      return false;
+    const double alo = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
+    const double ahi = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
+    const double blo = std::min(std::min(b[0][k], b[1][k]), std::min(b[2][k], b[3][k]));
+    const double bhi = std::max(std::max(b[0][k], b[1][k]), std::max(b[2][k], b[3][k]));
+    if (alo > bhi || blo > ahi) return false;
   }
   return true;
 }
 
-bool Before(const Primitive &a, const Primitive &b) {
-  return a.kind != b.kind ? a.kind < b.kind : a.key < b.key;
-}
+bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
 
-// Which of two primitives' owners computes their pair (a before b): with one
-// fixed, the owner of the other (a wall needs no pebble as a ghost); otherwise
-// one chosen by a hash of the two keys, so that the pairs shared by two ranks
-// are split evenly between them (the smaller key would give every pair of the
-// first bodies to one rank). Both ranks holding the pair decide alike.
+// Which of two primitives' owners computes their pair (a before b): with one fixed, the owner of
+// the other (a wall needs no pebble as a ghost); otherwise one chosen by a hash of the two keys,
+// so that the pairs shared by two ranks are split evenly between them (the smaller key would give
+// every pair of the first bodies to one rank). Both ranks holding the pair decide alike.
 bool FirstComputes(const Primitive &a, const Primitive &b) {
-  if (a.fixed != b.fixed)
-    return !a.fixed;
-  std::uint64_t h =
-      (std::uint64_t)a.key * 0x9E3779B97F4A7C15ull + (std::uint64_t)a.kind;
-  h ^= ((std::uint64_t)b.key + ((std::uint64_t)b.kind << 48)) *
-       0xC2B2AE3D27D4EB4Full;
+  if (a.fixed != b.fixed) return !a.fixed;
+  std::uint64_t h = (std::uint64_t)a.key * 0x9E3779B97F4A7C15ull + (std::uint64_t)a.kind;
+  h ^= ((std::uint64_t)b.key + ((std::uint64_t)b.kind << 48)) * 0xC2B2AE3D27D4EB4Full;
   h ^= h >> 29;
   return (h >> 7 & 1u) == 0;
 }
 
-double Volume6(const Tet4 &a) {
-  return std::fabs(dot(a[1] - a[0], cross(a[2] - a[0], a[3] - a[0])));
-}
+double Volume6(const Tet4 &a) { return std::fabs(dot(a[1] - a[0], cross(a[2] - a[0], a[3] - a[0]))); }
 } // namespace
 
 Engine::Engine(MPI_Comm comm, const char *who) : comm_(comm), who_(who) {
@@ -138,26 +117,24 @@ PetscErrorCode Engine::SetPenalty(PetscReal penalty) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction,
-                                      PetscReal tangential_viscosity) {
+PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) {
   PetscFunctionBegin;
-  PetscCall(fdem::contact::SetDissipation(
-      comm_, who_.c_str(), damping, friction, tangential_viscosity, par_.diss));
+  PetscCall(fdem::contact::SetDissipation(comm_, who_.c_str(), damping, friction, tangential_viscosity, par_.diss));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode Engine::SetBuffer(PetscReal buffer) {
   PetscFunctionBegin;
   PetscCall(CheckBuffer(comm_, who_.c_str(), buffer));
-  par_.buffer = buffer;
+  par_.buffer   = buffer;
   stats_.buffer = buffer;
-  searched_ = false;
+  searched_     = false;
   PetscFunctionReturn(0);
 }
 
 void Engine::SetAutomaticBuffer() {
   par_.buffer = -1;
-  listed_ = false; // the automatic buffer is computed when listing
+  listed_     = false; // the automatic buffer is computed when listing
 }
 
 PetscErrorCode Engine::SetSelfContact(PetscBool self) {
@@ -169,59 +146,31 @@ PetscErrorCode Engine::SetSelfContact(PetscBool self) {
 
 PetscErrorCode Engine::CheckPenaltySet() const {
   PetscFunctionBegin;
-  PetscCheck(par_.penalty > 0, comm_, PETSC_ERR_ARG_WRONGSTATE,
-             "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a "
-             "positive modulus)",
-             who_.c_str());
+  PetscCheck(par_.penalty > 0, comm_, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode Engine::SetFromOptions() {
-  PetscReal pen = par_.penalty, damp = par_.diss.normal_damping,
-            mu = par_.diss.friction, ct = par_.diss.tangential_viscosity,
-            buf = par_.buffer;
+  PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
   PetscBool fp, fb, self = par_.self;
   PetscFunctionBegin;
-  PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)",
-                    "FDEMContact");
-  PetscCall(PetscOptionsReal("-fdem_contact_penalty",
-                             "Penalty (Pa): a face pushed a depth d into a "
-                             "tetrahedron of height H feels ~ penalty d/H",
-                             "FDEMContactSetPenalty", pen, &pen, &fp));
-  PetscCall(PetscOptionsReal(
-      "-fdem_contact_damping", "Normal contact damping (Pa s/m)",
-      "FDEMContactSetDissipation", damp, &damp, nullptr));
-  PetscCall(PetscOptionsReal("-fdem_contact_friction",
-                             "Coulomb friction coefficient",
-                             "FDEMContactSetDissipation", mu, &mu, nullptr));
-  PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity",
-                             "Tangential viscosity regularising stick (Pa s/m)",
-                             "FDEMContactSetDissipation", ct, &ct, nullptr));
-  PetscCall(PetscOptionsReal(
-      "-fdem_contact_buffer",
-      "Search buffer (length; < 0: automatic, see doc/contact_engine.md); "
-      "re-search after a vertex moved half of it",
-      "FDEMContactSetBuffer", buf, &buf, &fb));
-  PetscCall(PetscOptionsBool("-fdem_contact_self",
-                             "Self-contact between surface tetrahedra of one "
-                             "deformable body that share no node",
-                             "FDEMDeformableContactSetSelfContact", self, &self,
-                             nullptr));
+  PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
+  PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
+  PetscCall(PetscOptionsReal("-fdem_contact_damping", "Normal contact damping (Pa s/m)", "FDEMContactSetDissipation", damp, &damp, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_friction", "Coulomb friction coefficient", "FDEMContactSetDissipation", mu, &mu, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
+  PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
   PetscOptionsEnd();
-  if (fp)
-    PetscCall(SetPenalty(pen));
+  if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
-  if (fb && buf < 0)
-    SetAutomaticBuffer();
-  else if (fb)
-    PetscCall(SetBuffer(buf));
-  if (self != par_.self)
-    PetscCall(SetSelfContact(self));
+  if (fb && buf < 0) SetAutomaticBuffer();
+  else if (fb) PetscCall(SetBuffer(buf));
+  if (self != par_.self) PetscCall(SetSelfContact(self));
   PetscFunctionReturn(0);
 }
 
-// ------------------------------------------------------------------ primitives
-// and ghosts
+// ------------------------------------------------------------------ primitives and ghosts
 PetscErrorCode RegisterEvents() {
   PetscFunctionBegin;
   if (!CLASSID) {
@@ -240,14 +189,13 @@ PetscErrorCode Engine::ListAll() {
   PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
   prim_.clear();
   PetscReal size_sum = 0;
-  PetscInt size_count = 0;
+  PetscInt  size_count = 0;
   for (size_t k = 0; k < adapters_.size(); ++k) {
     std::vector<Primitive> p;
-    PetscReal s = 0;
-    PetscInt n = 0;
+    PetscReal              s = 0;
+    PetscInt               n = 0;
     PetscCall(adapters_[k]->List(p));
-    for (auto &q : p)
-      q.kind = (std::int32_t)k;
+    for (auto &q : p) q.kind = (std::int32_t)k;
     prim_.insert(prim_.end(), p.begin(), p.end());
     first_[k + 1] = (int)prim_.size();
     if (par_.buffer < 0) {
@@ -260,17 +208,15 @@ PetscErrorCode Engine::ListAll() {
   x_.resize(nl_);
   f_.resize(nl_);
   PetscInt np = nl_;
-  PetscCallMPI(
-      MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
+  PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
   if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
     PetscReal g;
-    PetscInt gn;
+    PetscInt  gn;
     PetscCallMPI(MPI_Allreduce(&size_sum, &g, 1, MPIU_REAL, MPI_SUM, comm_));
     PetscCallMPI(MPI_Allreduce(&size_count, &gn, 1, MPIU_INT, MPI_SUM, comm_));
     stats_.buffer = gn > 0 ? g / (PetscReal)gn : 0;
-  } else
-    stats_.buffer = par_.buffer;
-  listed_ = true;
+  } else stats_.buffer = par_.buffer;
+  listed_   = true;
   searched_ = false;
   PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -281,38 +227,30 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
   PetscCall(PetscLogEventBegin(EV_GHOST, 0, 0, 0, 0));
   if (x) {
     gx_.resize(ng_);
-    PetscCall(
-        PetscSFBcastBegin(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
-    PetscCall(
-        PetscSFBcastEnd(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
   }
   if (v) {
     gv_.resize(ng_);
-    PetscCall(
-        PetscSFBcastBegin(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
-    PetscCall(
-        PetscSFBcastEnd(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
   }
   PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-// The halo and the candidate pairs. Each rank's region is NGROUP x NBOX boxes
-// around the bounding boxes of its primitives; a primitive whose box meets
-// another rank's box is sent there as a ghost when a pair can form there that
-// the other rank computes (FirstComputes). The candidate pairs are the pairs of
-// primitives whose boxes (grown by half the buffer) overlap, found level by
-// level (kernels::BoxSearch), each computed by one rank; forces on ghosts go
-// back through the same SF.
+// The halo and the candidate pairs. Each rank's region is NGROUP x NBOX boxes around the bounding
+// boxes of its primitives; a primitive whose box meets another rank's box is sent there as a ghost
+// when a pair can form there that the other rank computes (FirstComputes). The candidate pairs
+// are the pairs of primitives whose boxes (grown by half the buffer) overlap, found level by level
+// (kernels::BoxSearch), each computed by one rank; forces on ghosts go back through the same SF.
 PetscErrorCode Engine::Search() {
   const PetscReal half = 0.5 * stats_.buffer;
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
-  const int nl = nl_;
+  const int           nl = nl_;
   std::vector<double> boxes(6 * (size_t)nl), margin(nl);
-  for (size_t k = 0; k < adapters_.size(); ++k)
-    PetscCall(adapters_[k]->Margins(half, searched_ ? since_search_ : 0,
-                                    margin.data() + first_[k]));
+  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Margins(half, searched_ ? since_search_ : 0, margin.data() + first_[k]));
   for (int i = 0; i < nl; ++i) {
     prim_[i].margin = std::max(margin[i], (double)half);
     Box(x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
@@ -321,39 +259,29 @@ PetscErrorCode Engine::Search() {
   if (size_ > 1) { // one rank: no one to send to
     std::vector<double> size(nl), med;
     for (int i = 0; i < nl; ++i)
-      for (int k = 0; k < 3; ++k)
-        size[i] = std::max(size[i], boxes[6 * i + 3 + k] - boxes[6 * i + k]);
+      for (int k = 0; k < 3; ++k) size[i] = std::max(size[i], boxes[6 * i + 3 + k] - boxes[6 * i + k]);
     med = size;
-    if (nl)
-      std::nth_element(med.begin(), med.begin() + nl / 2, med.end());
-    const double large = nl ? 2 * med[nl / 2] : 0;
+    if (nl) std::nth_element(med.begin(), med.begin() + nl / 2, med.end());
+    const double     large = nl ? 2 * med[nl / 2] : 0;
     std::vector<int> idx[NGROUP];
-    for (int i = 0; i < nl; ++i)
-      idx[prim_[i].fixed ? 2 : size[i] > large ? 1 : 0].push_back(i);
-    auto mid = [&](int i, int k) {
-      return boxes[6 * i + k] + boxes[6 * i + 3 + k];
-    };
+    for (int i = 0; i < nl; ++i) idx[prim_[i].fixed ? 2 : size[i] > large ? 1 : 0].push_back(i);
+    auto mid = [&](int i, int k) { return boxes[6 * i + k] + boxes[6 * i + 3 + k]; };
     for (int g = 0; g < NGROUP; ++g) {
-      std::function<void(int, int, int, int)> split = [&](int b, int e,
-                                                          int depth, int slot) {
-        if (b >= e)
-          return;
+      std::function<void(int, int, int, int)> split = [&](int b, int e, int depth, int slot) {
+        if (b >= e) return;
         if (depth == 0) {
           double *bx = &box[BW * (g * NBOX + slot)];
-          bx[6] = (double)prim_[idx[g][b]].body;
-          bx[7] = (double)prim_[idx[g][b]].kind;
+          bx[6]      = (double)prim_[idx[g][b]].body;
+          bx[7]      = (double)prim_[idx[g][b]].kind;
           unsigned mask = 0, moves = 0;
           for (int j = b; j < e; ++j) {
             const int i = idx[g][j];
             for (int k = 0; k < 3; ++k) {
-              bx[k] = std::min(bx[k], boxes[6 * i + k]);
+              bx[k]     = std::min(bx[k], boxes[6 * i + k]);
               bx[3 + k] = std::min(bx[3 + k], -boxes[6 * i + 3 + k]);
             }
-            if ((double)prim_[i].body != bx[6] ||
-                (double)prim_[i].kind != bx[7])
-              bx[6] = -1;
-            if ((double)prim_[i].kind != bx[7])
-              bx[7] = -1;
+            if ((double)prim_[i].body != bx[6] || (double)prim_[i].kind != bx[7]) bx[6] = -1;
+            if ((double)prim_[i].kind != bx[7]) bx[7] = -1;
             mask |= 1u << prim_[i].kind;
             moves |= prim_[i].fixed ? 0u : 1u;
           }
@@ -361,8 +289,7 @@ PetscErrorCode Engine::Search() {
           bx[9] = moves;
           return;
         }
-        double lo[3] = {INFINITY, INFINITY, INFINITY},
-               hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (int j = b; j < e; ++j)
           for (int k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], mid(idx[g][j], k));
@@ -370,50 +297,38 @@ PetscErrorCode Engine::Search() {
           }
         int ax = 0;
         for (int k = 1; k < 3; ++k)
-          if (hi[k] - lo[k] > hi[ax] - lo[ax])
-            ax = k;
+          if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
         const int m = b + (e - b) / 2;
-        std::nth_element(idx[g].begin() + b, idx[g].begin() + m,
-                         idx[g].begin() + e,
-                         [&](int u, int v) { return mid(u, ax) < mid(v, ax); });
+        std::nth_element(idx[g].begin() + b, idx[g].begin() + m, idx[g].begin() + e, [&](int u, int v) { return mid(u, ax) < mid(v, ax); });
         split(b, m, depth - 1, 2 * slot);
         split(m, e, depth - 1, 2 * slot + 1);
       };
       split(0, (int)idx[g].size(), NBOX_DEPTH, 0);
     }
   }
-  const int nbox = NGROUP * NBOX;
+  const int           nbox = NGROUP * NBOX;
   std::vector<double> all(BW * nbox * (size_t)size_);
-  PetscCallMPI(MPI_Allgather(box.data(), BW * nbox, MPI_DOUBLE, all.data(),
-                             BW * nbox, MPI_DOUBLE, comm_));
-  // 1. who needs which of my primitives: a rank with a primitive near it that
-  // can pair with it,
-  //    unless I compute every such pair (mine moves, theirs in that box are all
-  //    fixed)
+  PetscCallMPI(MPI_Allgather(box.data(), BW * nbox, MPI_DOUBLE, all.data(), BW * nbox, MPI_DOUBLE, comm_));
+  // 1. who needs which of my primitives: a rank with a primitive near it that can pair with it,
+  //    unless I compute every such pair (mine moves, theirs in that box are all fixed)
   std::vector<std::vector<PetscInt>> send(size_);
   for (int s = 0; s < size_; ++s) {
-    if (s == rank_)
-      continue;
+    if (s == rank_) continue;
     for (int i = 0; i < nl; ++i) {
-      const Primitive &p = prim_[i];
-      const bool self = (par_.self && adapters_[p.kind]->CanSelfContact()) ||
-                        adapters_[p.kind]->AlwaysSelfContact(p.body);
-      const double *pb = &boxes[6 * (size_t)i];
+      const Primitive &p    = prim_[i];
+      const bool       self = (par_.self && adapters_[p.kind]->CanSelfContact()) || adapters_[p.kind]->AlwaysSelfContact(p.body);
+      const double    *pb   = &boxes[6 * (size_t)i];
       for (int q = 0; q < nbox; ++q) {
-        const double *b = &all[BW * ((size_t)s * nbox + q)];
-        if (!(b[0] < INFINITY))
-          continue; // empty
+        const double  *b    = &all[BW * ((size_t)s * nbox + q)];
+        if (!(b[0] < INFINITY)) continue; // empty
         const unsigned mask = (unsigned)b[8];
-        bool in = false;
-        for (int k = 0; k < (int)adapters_.size() && !in; ++k)
-          in = (mask >> k & 1u) && allow_[p.kind][k];
+        bool           in   = false;
+        for (int k = 0; k < (int)adapters_.size() && !in; ++k) in = (mask >> k & 1u) && allow_[p.kind][k];
         // no pairs within one body without self-contact
         in = in && (self || b[6] != (double)p.body || b[7] != (double)p.kind);
-        // theirs all fixed: mine fixed too (no pair) or mine moves (I compute
-        // them all)
+        // theirs all fixed: mine fixed too (no pair) or mine moves (I compute them all)
         in = in && b[9] != 0;
-        for (int k = 0; k < 3 && in; ++k)
-          in = pb[3 + k] >= b[k] && pb[k] <= -b[3 + k];
+        for (int k = 0; k < 3 && in; ++k) in = pb[3 + k] >= b[k] && pb[k] <= -b[3 + k];
         if (in) {
           send[s].push_back(i);
           break;
@@ -423,108 +338,79 @@ PetscErrorCode Engine::Search() {
   }
   std::vector<PetscSFNode> ghosts;
   PetscCall(fdem::HaloExchange(comm_, send, ghosts));
-  // 2. the SF (one Vertices record per primitive) and the ghosts' static
-  // records (a one-off SF)
+  // 2. the SF (one Vertices record per primitive) and the ghosts' static records (a one-off SF)
   ng_ = (int)ghosts.size();
-  PetscCall(fdem::HaloSF(comm_, nl, ghosts,
-                         (PetscInt)(sizeof(Vertices) / sizeof(PetscReal)),
-                         &sf_));
+  PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), &sf_));
   {
     PetscSF sfs = nullptr;
     gprim_.resize(ng_);
-    PetscCall(
-        fdem::HaloSF(comm_, nl, ghosts, (PetscInt)sizeof(Primitive), &sfs));
-    PetscCall(PetscSFBcastBegin(sfs, MPI_BYTE, prim_.data(), gprim_.data(),
-                                MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sfs, MPI_BYTE, prim_.data(), gprim_.data(),
-                              MPI_REPLACE));
+    PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)sizeof(Primitive), &sfs));
+    PetscCall(PetscSFBcastBegin(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
     PetscCall(PetscSFDestroy(&sfs));
   }
   PetscCall(UpdateGhosts(true, false));
   // 3. the candidate pairs among own and ghost primitives: boxes that overlap
   const int N = nl + ng_;
   boxes.resize(6 * (size_t)N);
-  for (int i = nl; i < N; ++i)
-    Box(gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
+  for (int i = nl; i < N; ++i) Box(gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
   pairs_.clear();
   {
-    PetscCall(fdem::Guard(
-        comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks
-                                         // without primitives do nothing
-          if (nl == 0)
-            return 0;
-          fdem::kernels::BoxSearch bs;
-          std::vector<std::pair<int, int>> tp;
-          bs.Build(boxes.data(), N);
-          bs.FindPairs(tp);
-          // face planes, made when a pair first needs them
-          std::vector<double> planes(16 * (size_t)N);
-          std::vector<char> have(N, 0);
-          auto plane = [&](int i) {
-            if (!have[i])
-              FacePlanes(X(i), &planes[16 * (size_t)i]), have[i] = 1;
-            return &planes[16 * (size_t)i];
-          };
-          for (const auto &pr : tp) {
-            int a = pr.first, b = pr.second;
-            const Primitive &A = P(a), &B = P(b);
-            if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed))
-              continue;
-            // apart for as long as neither moves more than its margin: not a
-            // candidate
-            const double gap = A.margin + B.margin;
-            if (BeyondAFace(plane(a), X(b), gap) ||
-                BeyondAFace(plane(b), X(a), gap))
-              continue;
-            if (A.kind == B.kind &&
-                A.body == B.body) { // one body: only with self-contact, and
-                                    // never neighbours
-              const Adapter *ad = adapters_[A.kind];
-              if (!((par_.self && ad->CanSelfContact()) ||
-                    ad->AlwaysSelfContact(A.body)))
-                continue;
-              if (!ad->SelfPair(A, B))
-                continue;
-            }
-            if (Before(B, A))
-              std::swap(
-                  a, b); // a: the smaller (kind, key), first in the force call
-            if (a >= nl && b >= nl)
-              continue; // two ghosts: their owners compute it
-            if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl)))
-              continue; // the other rank computes it
-            pairs_.push_back({a, b});
-          }
-          return 0;
-        }));
+    PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
+      if (nl == 0) return 0;
+      fdem::kernels::BoxSearch         bs;
+      std::vector<std::pair<int, int>> tp;
+      bs.Build(boxes.data(), N);
+      bs.FindPairs(tp);
+      // face planes, made when a pair first needs them
+      std::vector<double> planes(16 * (size_t)N);
+      std::vector<char>   have(N, 0);
+      auto                plane = [&](int i) {
+        if (!have[i]) FacePlanes(X(i), &planes[16 * (size_t)i]), have[i] = 1;
+        return &planes[16 * (size_t)i];
+      };
+      for (const auto &pr : tp) {
+        int              a = pr.first, b = pr.second;
+        const Primitive &A = P(a), &B = P(b);
+        if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
+        // apart for as long as neither moves more than its margin: not a candidate
+        const double gap = A.margin + B.margin;
+        if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
+        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
+          const Adapter *ad = adapters_[A.kind];
+          if (!((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
+          if (!ad->SelfPair(A, B)) continue;
+        }
+        if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
+        if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
+        if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
+        pairs_.push_back({a, b});
+      }
+      return 0;
+    }));
   }
-  // 4. the primitives that may get a force here: in a pair, or a ghost
-  // elsewhere
+  // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere
   {
     std::vector<char> t(nl, 0);
     for (const auto &p : pairs_)
       for (int i : p)
-        if (i < nl)
-          t[i] = 1;
+        if (i < nl) t[i] = 1;
     for (const auto &s : send)
-      for (PetscInt i : s)
-        t[i] = 1;
+      for (PetscInt i : s) t[i] = 1;
     touch_.assign(adapters_.size(), {});
     for (size_t k = 0; k < adapters_.size(); ++k)
       for (int i = first_[k]; i < first_[k + 1]; ++i)
-        if (t[i])
-          touch_[k].push_back(i - first_[k]);
+        if (t[i]) touch_[k].push_back(i - first_[k]);
   }
-  for (auto *a : adapters_)
-    PetscCall(a->Searched());
+  for (auto *a : adapters_) PetscCall(a->Searched());
   gf_.resize(ng_);
-  searched_ = true;
+  searched_     = true;
   since_search_ = 0;
   stats_.searches++;
   PetscInt loc[2] = {(PetscInt)pairs_.size(), (PetscInt)ng_}, glob[2];
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, comm_));
   stats_.candidate_pairs = glob[0];
-  stats_.ghosts = glob[1];
+  stats_.ghosts          = glob[1];
   PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -533,33 +419,27 @@ PetscErrorCode Engine::Search() {
 PetscErrorCode Engine::Evaluate() {
   PetscFunctionBegin;
   PetscCall(CheckPenaltySet());
-  if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the
-                                   // contact frequency against K_crit
-    TSType type;
-    PetscReal dt;
-    PetscBool found;
+  if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the contact frequency against K_crit
+    TSType         type;
+    PetscReal      dt;
+    PetscBool      found;
     FDEMSchemeInfo info;
     checked_ts_ = ts_;
     PetscCall(TSGetType(ts_, &type));
     PetscCall(TSGetTimeStep(ts_, &dt));
     PetscCall(FDEMSchemeInfoFind(type, &found, &info));
-    if (found && dt > 0)
-      PetscCall(CheckTimeStep(type, dt, &stats_.dt_ratio));
+    if (found && dt > 0) PetscCall(CheckTimeStep(type, dt, &stats_.dt_ratio));
   }
-  for (auto *a :
-       adapters_) { // primitives that appeared (fracture): list them again
+  for (auto *a : adapters_) { // primitives that appeared (fracture): list them again
     PetscBool changed;
     PetscCall(a->Changed(&changed));
-    if (changed)
-      listed_ = false;
+    if (changed) listed_ = false;
   }
-  if (!listed_)
-    PetscCall(ListAll());
+  if (!listed_) PetscCall(ListAll());
   with_v_ = par_.Dissipative();
-  if (with_v_)
-    v_.resize(nl_);
-  // the re-search rule: some vertex moved more than its margin (at least half
-  // the buffer) since the last search (all ranks)
+  if (with_v_) v_.resize(nl_);
+  // the re-search rule: some vertex moved more than its margin (at least half the buffer) since
+  // the last search (all ranks)
   PetscReal ratio = searched_ ? 0 : PETSC_MAX_REAL, gratio;
   if (searched_)
     for (auto *a : adapters_) {
@@ -571,38 +451,29 @@ PetscErrorCode Engine::Evaluate() {
   const bool search = gratio > 1 || !(stats_.buffer > 0);
   ++since_search_;
   if (search) {
-    for (size_t k = 0; k < adapters_.size(); ++k)
-      PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
     PetscCall(Search());
   }
   for (size_t k = 0; k < adapters_.size(); ++k)
-    if (!search || with_v_)
-      PetscCall(
-          adapters_[k]->Gather(&touch_[k], x_.data() + first_[k],
-                               with_v_ ? v_.data() + first_[k] : nullptr));
+    if (!search || with_v_) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], with_v_ ? v_.data() + first_[k] : nullptr));
   PetscCall(UpdateGhosts(!search, with_v_));
 
-  // the pair loop: potential force both ways, damping and friction; forces per
-  // vertex
+  // the pair loop: potential force both ways, damping and friction; forces per vertex
   PetscCall(PetscLogEventBegin(EV_FORCE, 0, 0, 0, 0));
   const Vertices zero{};
   for (size_t k = 0; k < adapters_.size(); ++k)
-    for (int i : touch_[k])
-      f_[first_[k] + i] = zero;
+    for (int i : touch_[k]) f_[first_[k] + i] = zero;
   std::fill(gf_.begin(), gf_.end(), zero);
-  PetscReal sums[2] = {0, 0}; // energy, active pairs
-  std::array<double, 3> deep{0, -1,
-                             -1}; // worst initial overlap ratio, the pair
-  const PetscReal pen = par_.penalty;
+  PetscReal             sums[2] = {0, 0}; // energy, active pairs
+  std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
+  const PetscReal       pen = par_.penalty;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     fdem::kernels::TetPairContact pc;
-    std::array<Vec3, 4> fa, fb, da, db;
-    // each tetrahedron's frame once per evaluation, made when a pair first
-    // needs it
+    std::array<Vec3, 4>           fa, fb, da, db;
+    // each tetrahedron's frame once per evaluation, made when a pair first needs it
     frames_.resize(nl_ + ng_);
     made_.assign(nl_ + ng_, 0);
-    auto frame = [&](int i,
-                     const char *name) -> const fdem::kernels::TetFrame & {
+    auto frame = [&](int i, const char *name) -> const fdem::kernels::TetFrame & {
       if (!made_[i]) {
         fdem::kernels::MakeTetFrame(X(i), name, frames_[i]);
         made_[i] = 1;
@@ -611,34 +482,26 @@ PetscErrorCode Engine::Evaluate() {
     };
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!BoxesMeet(a, b))
-        continue;
-      const fdem::kernels::TetFrame &ta = frame(p[0], "a"),
-                                    &tb = frame(p[1], "b");
-      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pc))
-        continue;
+      if (!BoxesMeet(a, b)) continue;
+      const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
+      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pc)) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
       if (!checked_initial_) {
-        // the deep-overlap check: overlap energy above that of 10% of the
-        // smaller tetrahedron at mid potential
-        const double ratio =
-            pc.energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8);
-        if (ratio > deep[0])
-          deep = {ratio, (double)p[0], (double)p[1]};
+        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid potential
+        const double ratio = pc.energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8);
+        if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
       }
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
-        fdem::kernels::ContactDampingFriction(ta, tb, V(p[0]), V(p[1]), pc,
-                                              par_.diss, da, db);
+        fdem::kernels::ContactDampingFriction(ta, tb, V(p[0]), V(p[1]), pc, par_.diss, da, db);
         for (int k = 0; k < 4; ++k) {
           fa[k] += da[k];
           fb[k] += db[k];
         }
       }
-      Vertices &oa = p[0] < nl_ ? f_[p[0]] : gf_[p[0] - nl_],
-               &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
+      Vertices &oa = p[0] < nl_ ? f_[p[0]] : gf_[p[0] - nl_], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
       for (int k = 0; k < 4; ++k) {
         oa[k] += fa[k];
         ob[k] += fb[k];
@@ -646,89 +509,67 @@ PetscErrorCode Engine::Evaluate() {
     }
     return 0;
   }));
-  if (!checked_initial_)
-    PetscCall(CheckInitialOverlap(deep));
+  if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
   PetscCall(PetscSFReduceBegin(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
   PetscCall(PetscSFReduceEnd(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
-  for (size_t k = 0; k < adapters_.size(); ++k)
-    PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k],
-                                    f_.data() + first_[k]));
+  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
   PetscReal gsums[2];
   PetscCallMPI(MPI_Allreduce(sums, gsums, 2, MPIU_REAL, MPI_SUM, comm_));
-  stats_.energy = gsums[0];
+  stats_.energy       = gsums[0];
   stats_.active_pairs = (PetscInt)gsums[1];
   stats_.evaluations++;
   PetscCall(PetscLogEventEnd(EV_FORCE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-// Collective: every rank stops with the same message, composed by the rank
-// holding the worst pair.
+// Collective: every rank stops with the same message, composed by the rank holding the worst pair.
 PetscErrorCode Engine::CheckInitialOverlap(const std::array<double, 3> &deep) {
   double worst;
   PetscFunctionBegin;
   PetscCallMPI(MPI_Allreduce(&deep[0], &worst, 1, MPI_DOUBLE, MPI_MAX, comm_));
   checked_initial_ = true;
-  if (!(worst > 1))
-    PetscFunctionReturn(0);
+  if (!(worst > 1)) PetscFunctionReturn(0);
   PetscMPIInt mine = deep[0] == worst ? rank_ : size_, from;
   PetscCallMPI(MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, comm_));
   char msg[512] = "";
   if (rank_ == from) {
     const Primitive &A = P((int)deep[1]), &B = P((int)deep[2]);
-    const Adapter *a = adapters_[A.kind], *b = adapters_[B.kind];
-    PetscCall(PetscSNPrintf(
-        msg, sizeof(msg),
-        "%s and %s start interpenetrating deeply (their %s and %s overlap %.1f "
-        "times more than allowed); separate them",
-        a->BodyName(A).c_str(), b->BodyName(B).c_str(),
-        a->ElementName(A).c_str(), b->ElementName(B).c_str(), worst));
+    const Adapter   *a = adapters_[A.kind], *b = adapters_[B.kind];
+    PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s and %s start interpenetrating deeply (their %s and %s overlap %.1f times more than allowed); separate them", a->BodyName(A).c_str(), b->BodyName(B).c_str(),
+                            a->ElementName(A).c_str(), b->ElementName(B).c_str(), worst));
   }
   PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, from, comm_));
   SETERRQ(comm_, PETSC_ERR_USER_INPUT, "%s: %s", who_.c_str(), msg);
 }
 
-// ------------------------------------------------------------------ the
-// time-step check
-PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt,
-                                     PetscReal *ratio) {
+// ------------------------------------------------------------------ the time-step check
+PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal *ratio) {
   FDEMSchemeInfo info;
-  PetscBool found;
+  PetscBool      found;
   struct {
     double val;
-    int kind;
+    int    kind;
   } loc{0, -1}, glob;
   PetscFunctionBegin;
   PetscCall(CheckPenaltySet());
-  PetscCheck(dt > 0 && std::isfinite(dt), comm_, PETSC_ERR_ARG_OUTOFRANGE,
-             "%s: the time step must be positive, got %g", who_.c_str(),
-             (double)dt);
+  PetscCheck(dt > 0 && std::isfinite(dt), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: the time step must be positive, got %g", who_.c_str(), (double)dt);
   PetscCall(FDEMSchemeInfoFind(scheme, &found, &info));
-  PetscCheck(found, comm_, PETSC_ERR_ARG_UNKNOWN_TYPE,
-             "%s: %s is not an fdem TS type", who_.c_str(), scheme);
+  PetscCheck(found, comm_, PETSC_ERR_ARG_UNKNOWN_TYPE, "%s: %s is not an fdem TS type", who_.c_str(), scheme);
   for (size_t k = 0; k < adapters_.size(); ++k) {
     PetscReal a;
     PetscCall(adapters_[k]->Frequency2(par_.penalty, &a)); // collective
-    if (a > loc.val)
-      loc = {a, (int)k};
+    if (a > loc.val) loc = {a, (int)k};
   }
-  PetscCallMPI(
-      MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
+  PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
   const PetscReal omega = std::sqrt(glob.val);
-  const PetscReal r = info.kcrit > 0 ? omega * dt / info.kcrit : PETSC_MAX_REAL;
-  if (ratio)
-    *ratio = r;
+  const PetscReal r     = info.kcrit > 0 ? omega * dt / info.kcrit : PETSC_MAX_REAL;
+  if (ratio) *ratio = r;
   if (r > 0.5)
-    PetscCall(PetscPrintf(
-        comm_,
-        "WARNING fdem contact: the contact frequency omega_c = %g (%s side; "
-        "see doc/contact_engine.md) makes omega_c dt = %g, %.0f%% of the "
-        "stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
-        "or the penalty\n",
-        (double)omega, glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no",
-        (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme,
-        (double)(0.5 * info.kcrit / omega)));
+    PetscCall(PetscPrintf(comm_,
+                          "WARNING fdem contact: the contact frequency omega_c = %g (%s side; see doc/contact_engine.md) makes omega_c dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
+                          "or the penalty\n",
+                          (double)omega, glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no", (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme, (double)(0.5 * info.kcrit / omega)));
   PetscFunctionReturn(0);
 }
 } // namespace fdem::contact

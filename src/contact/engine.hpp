@@ -24,41 +24,28 @@ namespace fdem::contact {
 using fdem::kernels::Tet4;
 using fdem::kernels::Vec3;
 
-// The static record of a primitive; a ghost copy carries it to the ranks that
-// need it.
+// The static record of a primitive; a ghost copy carries it to the ranks that need it.
 struct Primitive {
-  std::int32_t kind = 0; // the adapter's slot in the engine (set by the engine)
-  std::int32_t fixed =
-      0; // 1: a fixed body (pairs of two fixed primitives are skipped)
-  PetscInt body =
-      0; // the body within its kind (rigid body id, mesh body number)
-  PetscInt elem = 0;    // the element within its kind (skin tetrahedron, global
-                        // mesh element id)
-  std::int64_t key = 0; // unique within the kind; a pair is computed by the
-                        // owner of the smaller (kind, key)
-  PetscInt node[4] = {
-      -1, -1, -1,
-      -1}; // global node ids (self-contact skips neighbours); -1: none
-  double margin = 0; // set at each search: how far it may move before the next
-                     // (>= buffer/2)
+  std::int32_t kind  = 0;  // the adapter's slot in the engine (set by the engine)
+  std::int32_t fixed = 0;  // 1: a fixed body (pairs of two fixed primitives are skipped)
+  PetscInt     body  = 0;  // the body within its kind (rigid body id, mesh body number)
+  PetscInt     elem  = 0;  // the element within its kind (skin tetrahedron, global mesh element id)
+  std::int64_t key   = 0;  // unique within the kind; a pair is computed by the owner of the smaller (kind, key)
+  PetscInt     node[4] = {-1, -1, -1, -1}; // global node ids (self-contact skips neighbours); -1: none
+  double       margin  = 0; // set at each search: how far it may move before the next (>= buffer/2)
 };
 
-// The dynamic ghost record, sent to the ghosts at every evaluation: vertex
-// positions, then (when damping or friction is on) vertex velocities, one Tet4
-// each.
+// The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,
+// then (when damping or friction is on) vertex velocities, one Tet4 each.
 using Vertices = Tet4;
 
-// Contact parameters, one set for every pair of body kinds (options
-// -fdem_contact_*).
+// Contact parameters, one set for every pair of body kinds (options -fdem_contact_*).
 struct Params {
-  PetscReal penalty = -1; // < 0: not set
-  PetscReal buffer = -1;  // < 0: automatic (Adapter::BufferProposal)
-  PetscBool self = PETSC_FALSE;
+  PetscReal                         penalty = -1; // < 0: not set
+  PetscReal                         buffer  = -1; // < 0: automatic (Adapter::BufferProposal)
+  PetscBool                         self    = PETSC_FALSE;
   fdem::kernels::ContactDissipation diss;
-  bool Dissipative() const {
-    return diss.normal_damping > 0 || diss.friction > 0 ||
-           diss.tangential_viscosity > 0;
-  }
+  bool Dissipative() const { return diss.normal_damping > 0 || diss.friction > 0 || diss.tangential_viscosity > 0; }
 };
 
 // Statistics (include/fdem/contact.h): every count and sum is over all ranks.
@@ -69,77 +56,65 @@ using Stats = FDEMContactStats;
 class Adapter {
 public:
   virtual ~Adapter() = default;
-  // This rank's primitives (kind is set by the engine). Called at the first
-  // evaluation after Engine::Reset(). Collective.
+  // This rank's primitives (kind is set by the engine). Called at the first evaluation
+  // after Engine::Reset(). Collective.
   virtual PetscErrorCode List(std::vector<Primitive> &prims) = 0;
-  // Current vertex positions x[i] and, when v is not null, velocities v[i] of
-  // the listed primitives i in `which` (increasing; null: all). The engine asks
-  // for all positions at a search and otherwise only for the primitives that
-  // take part in a pair or are ghosts.
-  virtual PetscErrorCode Gather(const std::vector<int> *which, Vertices *x,
-                                Vertices *v) = 0;
-  // Contact forces f[i] on the vertices x[i] (as gathered) of the primitives i
-  // in `which` (increasing), summed over all pairs and ranks; the other
-  // primitives have no force.
-  virtual PetscErrorCode Scatter(const std::vector<int> &which,
-                                 const Vertices *x, const Vertices *f) = 0;
-  // The largest ratio, over this rank's primitives, of a vertex's displacement
-  // since the last Searched() (an upper bound will do) to the primitive's
-  // search margin (the last Margins()); the engine searches again when it
-  // exceeds 1 on some rank. Searched() takes the current state as the
-  // reference.
+  // Current vertex positions x[i] and, when v is not null, velocities v[i] of the listed
+  // primitives i in `which` (increasing; null: all). The engine asks for all positions at a
+  // search and otherwise only for the primitives that take part in a pair or are ghosts.
+  virtual PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) = 0;
+  // Contact forces f[i] on the vertices x[i] (as gathered) of the primitives i in `which`
+  // (increasing), summed over all pairs and ranks; the other primitives have no force.
+  virtual PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) = 0;
+  // The largest ratio, over this rank's primitives, of a vertex's displacement since the last
+  // Searched() (an upper bound will do) to the primitive's search margin (the last Margins());
+  // the engine searches again when it exceeds 1 on some rank. Searched() takes the current
+  // state as the reference.
   virtual PetscErrorCode MoveRatio(PetscReal *ratio) = 0;
-  virtual PetscErrorCode Searched() = 0;
-  // At each search, before Searched(): the margin m[i] >= half of every listed
-  // primitive, how far it may move before the next search (its box is grown by
-  // it). `evaluations` since the last search (0: the first). Half the buffer
-  // for all is always correct; a body seen moving fast gets a larger one, so
-  // that it alone does not force a search at every evaluation.
-  virtual PetscErrorCode Margins(PetscReal half, PetscInt evaluations,
-                                 PetscReal *m) = 0;
+  virtual PetscErrorCode Searched()                  = 0;
+  // At each search, before Searched(): the margin m[i] >= half of every listed primitive, how far
+  // it may move before the next search (its box is grown by it). `evaluations` since the last
+  // search (0: the first). Half the buffer for all is always correct; a body seen moving fast
+  // gets a larger one, so that it alone does not force a search at every evaluation.
+  virtual PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) = 0;
   // The body kind, for messages ("rigid", "mesh").
   virtual const char *KindName() const = 0;
   // May two primitives of one body touch (self-contact, when switched on)?
   virtual bool CanSelfContact() const { return false; }
-  // May two primitives of body `body` touch even with self-contact off? (the
-  // fragments of a fracturable mesh body are one body)
+  // May two primitives of body `body` touch even with self-contact off? (the fragments of a
+  // fracturable mesh body are one body)
   virtual bool AlwaysSelfContact(PetscInt body) const {
     (void)body;
     return false;
   }
-  // Two primitives of one body that may self-contact: do they form a pair?
-  // Default: unless they share a node (node ids >= 0 equal). Called at a
-  // search, on the rank computing the pair.
+  // Two primitives of one body that may self-contact: do they form a pair? Default: unless
+  // they share a node (node ids >= 0 equal). Called at a search, on the rank computing the pair.
   virtual bool SelfPair(const Primitive &a, const Primitive &b) const {
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
-        if (a.node[i] >= 0 && a.node[i] == b.node[j])
-          return false;
+        if (a.node[i] >= 0 && a.node[i] == b.node[j]) return false;
     return true;
   }
-  // Have this adapter's primitives changed since its last List() (fracture: new
-  // contact surfaces)? The engine then lists them again. Called at every
-  // evaluation; the answer must be the same on every rank. Collective.
+  // Have this adapter's primitives changed since its last List() (fracture: new contact
+  // surfaces)? The engine then lists them again. Called at every evaluation; the answer must
+  // be the same on every rank. Collective.
   virtual PetscErrorCode Changed(PetscBool *changed) {
     *changed = PETSC_FALSE;
     return 0;
   }
-  // The largest contact frequency squared, omega^2, of this rank's bodies for
-  // the given penalty (0: none). Collective.
+  // The largest contact frequency squared, omega^2, of this rank's bodies for the given
+  // penalty (0: none). Collective.
   virtual PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) = 0;
-  // "rigid body 3" / "deformable body 'ball'" and "skin tetrahedron 5" /
-  // "element 17", for messages.
+  // "rigid body 3" / "deformable body 'ball'" and "skin tetrahedron 5" / "element 17", for messages.
   virtual std::string BodyName(const Primitive &p) const = 0;
   virtual std::string ElementName(const Primitive &p) const = 0;
-  // For the automatic buffer: the sum of this rank's proposals of a search
-  // buffer and their number (the engine takes the mean over all kinds and
-  // ranks). Collective.
+  // For the automatic buffer: the sum of this rank's proposals of a search buffer and their
+  // number (the engine takes the mean over all kinds and ranks). Collective.
   virtual PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) = 0;
 };
 
-// The log events FDEMContactList, FDEMContactDetect (search, ghosts and cell
-// search), FDEMContactHalo (ghost updates) and FDEMContactForce (pair loop,
-// forces back).
+// The log events FDEMContactList, FDEMContactDetect (search, ghosts and cell search),
+// FDEMContactHalo (ghost updates) and FDEMContactForce (pair loop, forces back).
 PetscErrorCode RegisterEvents();
 
 class Engine {
@@ -147,88 +122,73 @@ public:
   // `who` starts every message ("Contact", "Deformable contact", ...).
   Engine(MPI_Comm comm, const char *who);
   ~Engine();
-  Engine(const Engine &) = delete;
+  Engine(const Engine &)            = delete;
   Engine &operator=(const Engine &) = delete;
 
-  // Adapters are not owned; their slot numbers are their kinds. Pairs of kinds
-  // (a, b) are computed only when allowed (default: none).
-  int AddAdapter(Adapter *a);
+  // Adapters are not owned; their slot numbers are their kinds. Pairs of kinds (a, b)
+  // are computed only when allowed (default: none).
+  int  AddAdapter(Adapter *a);
   void AllowPair(int ka, int kb) { allow_[ka][kb] = allow_[kb][ka] = true; }
-  // Start over (collective, at the same point on every rank): at the next
-  // evaluation the primitives are listed again (after migration, or when
-  // primitives appeared, e.g. by fracture), searched again and the initial
-  // overlap is checked again.
+  // Start over (collective, at the same point on every rank): at the next evaluation the
+  // primitives are listed again (after migration, or when primitives appeared, e.g. by
+  // fracture), searched again and the initial overlap is checked again.
   void Reset() { listed_ = searched_ = false; }
-  // The next evaluation checks the initial overlap again (a new run from a new
-  // state).
+  // The next evaluation checks the initial overlap again (a new run from a new state).
   void RecheckInitialOverlap() {
     checked_initial_ = false;
-    checked_ts_ = nullptr;
+    checked_ts_      = nullptr;
   }
   void ReplaceAdapter(int k, Adapter *a) {
     adapters_[k] = a;
-    listed_ = false;
+    listed_      = false;
   }
-  // The TS whose first evaluation checks the time step (not referenced; null:
-  // no automatic check).
+  // The TS whose first evaluation checks the time step (not referenced; null: no automatic check).
   void SetTS(TS ts) { ts_ = ts; }
-  // One evaluation: gather, re-search when needed, pair loop, forces back.
-  // Collective.
+  // One evaluation: gather, re-search when needed, pair loop, forces back. Collective.
   PetscErrorCode Evaluate();
-  // omega_c dt / K_crit for the fdem TS type `scheme` (warning above 0.5).
-  // Collective.
-  PetscErrorCode CheckTimeStep(const char *scheme, PetscReal dt,
-                               PetscReal *ratio);
+  // omega_c dt / K_crit for the fdem TS type `scheme` (warning above 0.5). Collective.
+  PetscErrorCode CheckTimeStep(const char *scheme, PetscReal dt, PetscReal *ratio);
 
-  // Parameters; the setters check the values. SetFromOptions reads
-  // -fdem_contact_*.
+  // Parameters; the setters check the values. SetFromOptions reads -fdem_contact_*.
   PetscErrorCode SetPenalty(PetscReal penalty);
-  PetscErrorCode SetDissipation(PetscReal damping, PetscReal friction,
-                                PetscReal tangential_viscosity);
+  PetscErrorCode SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
   PetscErrorCode SetBuffer(PetscReal buffer); // >= 0
-  void SetAutomaticBuffer(); // the default (Adapter::BufferProposal)
+  void           SetAutomaticBuffer();        // the default (Adapter::BufferProposal)
   PetscErrorCode SetSelfContact(PetscBool self);
   PetscErrorCode SetFromOptions();
   PetscErrorCode CheckPenaltySet() const;
-  const Params &GetParams() const { return par_; }
-  const Stats &GetStats() const { return stats_; }
-  MPI_Comm Comm() const { return comm_; }
+  const Params  &GetParams() const { return par_; }
+  const Stats   &GetStats() const { return stats_; }
+  MPI_Comm       Comm() const { return comm_; }
 
 private:
   PetscErrorCode ListAll();
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);
-  const Tet4 &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }
-  const Tet4 &V(int i) const { return i < nl_ ? v_[i] : gv_[i - nl_]; }
-  const Primitive &P(int i) const {
-    return i < nl_ ? prim_[i] : gprim_[i - nl_];
-  }
+  const Tet4    &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }
+  const Tet4    &V(int i) const { return i < nl_ ? v_[i] : gv_[i - nl_]; }
+  const Primitive &P(int i) const { return i < nl_ ? prim_[i] : gprim_[i - nl_]; }
 
-  MPI_Comm comm_;
-  PetscMPIInt rank_ = 0, size_ = 1;
-  std::string who_;
-  std::vector<Adapter *> adapters_;
-  std::vector<int>
-      first_; // adapter k's primitives are own [first_[k], first_[k+1])
-  bool allow_[4][4] = {};
-  Params par_;
-  TS ts_ = nullptr, checked_ts_ = nullptr;
+  MPI_Comm                      comm_;
+  PetscMPIInt                   rank_ = 0, size_ = 1;
+  std::string                   who_;
+  std::vector<Adapter *>        adapters_;
+  std::vector<int>              first_;  // adapter k's primitives are own [first_[k], first_[k+1])
+  bool                          allow_[4][4] = {};
+  Params                        par_;
+  TS                            ts_ = nullptr, checked_ts_ = nullptr;
   // own primitives [0, nl_) then ghosts [nl_, nl_ + ng_)
-  int nl_ = 0, ng_ = 0;
-  std::vector<Primitive> prim_, gprim_;
-  std::vector<Vertices> x_, v_, gx_, gv_, f_, gf_;
-  std::vector<std::vector<int>> touch_; // per adapter: its primitives in a pair
-                                        // here or ghosts elsewhere (increasing)
-  PetscSF sf_ = nullptr;                // one Vertices record per primitive
-  std::vector<fdem::kernels::TetFrame>
-      frames_;             // per own and ghost primitive, at this evaluation
-  std::vector<char> made_; // frames_[i] made at this evaluation
-  std::vector<std::array<int, 2>>
-      pairs_; // (a, b), a before b, computed here (at least one own)
-  bool listed_ = false, searched_ = false, checked_initial_ = false,
-       with_v_ = false;
-  PetscInt since_search_ = 0; // evaluations since the last search
-  Stats stats_{};
+  int                           nl_ = 0, ng_ = 0;
+  std::vector<Primitive>        prim_, gprim_;
+  std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
+  std::vector<std::vector<int>> touch_; // per adapter: its primitives in a pair here or ghosts elsewhere (increasing)
+  PetscSF                       sf_ = nullptr; // one Vertices record per primitive
+  std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
+  std::vector<char>             made_;           // frames_[i] made at this evaluation
+  std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
+  bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
+  PetscInt                      since_search_ = 0; // evaluations since the last search
+  Stats                         stats_{};
 };
 } // namespace fdem::contact

@@ -1,7 +1,7 @@
 // A deformable mesh as a body kind of the contact engine (mesh_adapter.hpp).
 #include "mesh_adapter.hpp"
-#include "../model/deformable_impl.hpp"
 #include "surface.hpp"
+#include "../model/deformable_impl.hpp"
 #include <fdem/deformable.h>
 
 #include <algorithm>
@@ -9,43 +9,36 @@
 #include <new>
 
 namespace fdem::contact {
-PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which,
-                                   MeshAdapter **out) {
-  PetscInt nc, nlocal;
-  MPI_Comm comm;
-  DM dm;
+PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **out) {
+  PetscInt  nc, nlocal;
+  MPI_Comm  comm;
+  DM        dm;
   PetscBool joints;
   PetscFunctionBegin;
-  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, nullptr, nullptr,
-                                        nullptr,
-                                        nullptr)); // also checks set-up
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, nullptr, nullptr, nullptr, nullptr)); // also checks set-up
   PetscCall(FDEMDeformableGetDM(d, &dm));
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscCall(fdem::model::DeformableHasJoints(d, &joints));
   MeshAdapter *m = new (std::nothrow) MeshAdapter();
   PetscCheck(m, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory");
-  m->d_ = d;
-  m->which_ = which;
+  m->d_         = d;
+  m->which_     = which;
   m->fractured_ = joints;
-  AllCells &A = m->all_;
+  AllCells &A   = m->all_;
   A.conn.resize(4 * (size_t)nc);
   A.body.resize(nc);
   A.gid.resize(nc);
   A.ngid.resize(nlocal);
-  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, A.conn.data(),
-                                        A.body.data(), A.gid.data(),
-                                        A.ngid.data()));
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, A.conn.data(), A.body.data(), A.gid.data(), A.ngid.data()));
   PetscCall(BoundaryFaces(comm, A.conn, A.ngid, A.surf));
-  if (which == Cells::BoundaryVertex)
-    PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
+  if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
   PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
-  if (joints) { // the cells of fracturable bodies are chosen by the fracture
-                // topology
+  if (joints) { // the cells of fracturable bodies are chosen by the fracture topology
     fdem::model::FractureTopology t;
     PetscCall(fdem::model::DeformableFractureTopology(d, t));
     m->fracturable_ = t.fracturable;
-    m->nbroken_ = t.nbroken;
-    m->broken_ = t.broken_pairs;
+    m->nbroken_     = t.nbroken;
+    m->broken_      = t.broken_pairs;
     m->Select(&t);
   } else {
     m->Select(nullptr);
@@ -56,42 +49,36 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which,
   PetscFunctionReturn(0);
 }
 
-// A cell of a body that is not fracturable takes part when it has a boundary
-// face (or, for Cells::BoundaryVertex, a boundary vertex), its node ids those
-// of the mesh. A cell of a fracturable body takes part when it has a free face
-// (on the body's outer surface or on a broken joint; or a vertex on such a
-// face), its node ids the node keys of the topology. Before any joint breaks,
-// these are the cells at the surface of the unsplit body.
+// A cell of a body that is not fracturable takes part when it has a boundary face (or, for
+// Cells::BoundaryVertex, a boundary vertex), its node ids those of the mesh. A cell of a
+// fracturable body takes part when it has a free face (on the body's outer surface or on a
+// broken joint; or a vertex on such a face), its node ids the node keys of the topology.
+// Before any joint breaks, these are the cells at the surface of the unsplit body.
 void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
-  const AllCells &A = all_;
-  const size_t nc = A.body.size();
+  const AllCells &A  = all_;
+  const size_t    nc = A.body.size();
   conn_.clear();
   prims_.clear();
   faces_.clear();
   for (size_t e = 0; e < nc; ++e) {
     const bool frac = t && t->fracturable[A.body[e]];
-    char surf = A.surf[e];
-    bool on;
+    char       surf = A.surf[e];
+    bool       on;
     if (frac) {
       surf = (char)(t->cell_free[e] & 0xF);
-      on = surf != 0 ||
-           (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10));
+      on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10));
     } else {
       on = surf != 0;
       if (which_ == Cells::BoundaryVertex)
-        for (int k = 0; k < 4; ++k)
-          on = on || A.bnode[A.conn[4 * e + k]];
+        for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
     }
-    if (!on)
-      continue;
+    if (!on) continue;
     Primitive p;
     p.body = A.body[e];
     p.elem = A.gid[e];
-    p.key = A.gid[e];
-    for (int k = 0; k < 4; ++k)
-      p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
-    conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2],
-                     A.conn[4 * e + 3]});
+    p.key  = A.gid[e];
+    for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
+    conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);
     faces_.push_back(surf);
   }
@@ -99,10 +86,8 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
 
 bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
   if (fractured_ && fracturable_[a.body]) {
-    const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key),
-                                       (PetscInt)std::max(a.key, b.key)};
-    if (std::binary_search(broken_.begin(), broken_.end(), k))
-      return true; // the two sides of a broken joint
+    const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
+    if (std::binary_search(broken_.begin(), broken_.end(), k)) return true; // the two sides of a broken joint
   }
   return Adapter::SelfPair(a, b);
 }
@@ -111,16 +96,13 @@ PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
   PetscInt n;
   PetscFunctionBegin;
   *changed = PETSC_FALSE;
-  if (!fractured_)
-    PetscFunctionReturn(0);
-  PetscCall(
-      fdem::model::DeformableBrokenJoints(d_, &n)); // the same on every rank
-  if (n == nbroken_)
-    PetscFunctionReturn(0);
+  if (!fractured_) PetscFunctionReturn(0);
+  PetscCall(fdem::model::DeformableBrokenJoints(d_, &n)); // the same on every rank
+  if (n == nbroken_) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
   PetscCall(fdem::model::DeformableFractureTopology(d_, t));
   nbroken_ = t.nbroken;
-  broken_ = t.broken_pairs;
+  broken_  = t.broken_pairs;
   Select(&t);
   *changed = PETSC_TRUE;
   PetscFunctionReturn(0);
@@ -132,31 +114,22 @@ PetscErrorCode MeshAdapter::List(std::vector<Primitive> &prims) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshAdapter::Gather(const std::vector<int> *which, Vertices *x,
-                                   Vertices *v) {
+PetscErrorCode MeshAdapter::Gather(const std::vector<int> *which, Vertices *x, Vertices *v) {
   const size_t n = which ? which->size() : conn_.size();
   PetscFunctionBegin;
-  PetscCheck(!v || vl_ || !require_v_, PETSC_COMM_SELF,
-             PETSC_ERR_ARG_WRONGSTATE,
-             "Contact: damping or friction needs the nodal velocities, which "
-             "this force evaluation did not provide");
+  PetscCheck(!v || vl_ || !require_v_, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the nodal velocities, which this force evaluation did not provide");
   for (size_t m = 0; m < n; ++m) {
     const size_t t = which ? (size_t)(*which)[m] : m;
     for (int q = 0; q < 4; ++q) {
       const PetscInt a = 3 * conn_[t][q];
-      x[t][q] = Vec3(PetscRealPart(xl_[a]), PetscRealPart(xl_[a + 1]),
-                     PetscRealPart(xl_[a + 2]));
-      if (v)
-        v[t][q] = vl_ ? Vec3(PetscRealPart(vl_[a]), PetscRealPart(vl_[a + 1]),
-                             PetscRealPart(vl_[a + 2]))
-                      : Vec3(0, 0, 0);
+      x[t][q]          = Vec3(PetscRealPart(xl_[a]), PetscRealPart(xl_[a + 1]), PetscRealPart(xl_[a + 2]));
+      if (v) v[t][q] = vl_ ? Vec3(PetscRealPart(vl_[a]), PetscRealPart(vl_[a + 1]), PetscRealPart(vl_[a + 2])) : Vec3(0, 0, 0);
     }
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshAdapter::Scatter(const std::vector<int> &which,
-                                    const Vertices *, const Vertices *f) {
+PetscErrorCode MeshAdapter::Scatter(const std::vector<int> &which, const Vertices *, const Vertices *f) {
   PetscFunctionBegin;
   std::fill(body_force_.begin(), body_force_.end(), 0);
   for (int t : which)
@@ -168,13 +141,11 @@ PetscErrorCode MeshAdapter::Scatter(const std::vector<int> &which,
   PetscFunctionReturn(0);
 }
 
-// Every cell gets half the buffer (a fast node of a mesh is rare; its cells are
-// small).
+// Every cell gets half the buffer (a fast node of a mesh is rare; its cells are small).
 PetscErrorCode MeshAdapter::Margins(PetscReal half, PetscInt, PetscReal *m) {
   PetscFunctionBegin;
   half_ = half;
-  for (size_t t = 0; t < conn_.size(); ++t)
-    m[t] = half;
+  for (size_t t = 0; t < conn_.size(); ++t) m[t] = half;
   PetscFunctionReturn(0);
 }
 
@@ -184,11 +155,8 @@ PetscErrorCode MeshAdapter::MoveRatio(PetscReal *ratio) {
   for (size_t t = 0; t < conn_.size(); ++t)
     for (int q = 0; q < 4; ++q) {
       const PetscInt a = 3 * conn_[t][q];
-      const Vec3 &r = ref_[t][q];
-      move = std::max(
-          move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) +
-                              PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) +
-                              PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
+      const Vec3    &r = ref_[t][q];
+      move             = std::max(move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
     }
   *ratio = half_ > 0 ? move / half_ : move > 0 ? PETSC_MAX_REAL : 0;
   PetscFunctionReturn(0);
@@ -201,18 +169,17 @@ PetscErrorCode MeshAdapter::Searched() {
   PetscFunctionReturn(0);
 }
 
-// Contact stiffness of each boundary node: a boundary face of area A pressed a
-// depth d into its tetrahedron of height H over it feels ~ penalty (d / H) A,
-// shared by its three nodes, so k = sum over the node's boundary faces of
-// penalty A / (3 H). Both tetrahedra of a pair push (contactor and target, x2)
-// and an equal body on the other side halves the effective mass (x2): omega^2 =
-// 4 k / m with m the node's lumped mass (flat contact of equal bodies, the
-// stiffest case), at the mesh's stored positions.
+// Contact stiffness of each boundary node: a boundary face of area A pressed a depth d into
+// its tetrahedron of height H over it feels ~ penalty (d / H) A, shared by its three nodes,
+// so k = sum over the node's boundary faces of penalty A / (3 H). Both tetrahedra of a pair
+// push (contactor and target, x2) and an equal body on the other side halves the effective
+// mass (x2): omega^2 = 4 k / m with m the node's lumped mass (flat contact of equal bodies,
+// the stiffest case), at the mesh's stored positions.
 PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
-  DM dm;
-  Vec X, M, Xl, Kl, Kg;
-  const PetscScalar *xa, *ma, *kg;
-  PetscScalar *kl;
+  DM                       dm;
+  Vec                      X, M, Xl, Kl, Kg;
+  const PetscScalar       *xa, *ma, *kg;
+  PetscScalar             *kl;
   const std::vector<char> *fixed;
   PetscFunctionBegin;
   *w2 = 0;
@@ -229,22 +196,16 @@ PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscCall(VecGetArray(Kl, &kl));
   for (size_t t = 0; t < conn_.size(); ++t) {
     const auto &T = conn_[t];
-    Vec3 P[4];
-    for (int q = 0; q < 4; ++q)
-      P[q] = Vec3(PetscRealPart(xa[3 * T[q]]), PetscRealPart(xa[3 * T[q] + 1]),
-                  PetscRealPart(xa[3 * T[q] + 2]));
-    const double V =
-        std::fabs(dot(P[1] - P[0], cross(P[2] - P[0], P[3] - P[0]))) / 6;
+    Vec3        P[4];
+    for (int q = 0; q < 4; ++q) P[q] = Vec3(PetscRealPart(xa[3 * T[q]]), PetscRealPart(xa[3 * T[q] + 1]), PetscRealPart(xa[3 * T[q] + 2]));
+    const double V = std::fabs(dot(P[1] - P[0], cross(P[2] - P[0], P[3] - P[0]))) / 6;
     for (int o = 0; o < 4; ++o) {
-      if (!(faces_[t] & (1 << o)))
-        continue;
-      const int i = (o + 1) % 4, j = (o + 2) % 4, k = (o + 3) % 4;
+      if (!(faces_[t] & (1 << o))) continue;
+      const int    i = (o + 1) % 4, j = (o + 2) % 4, k = (o + 3) % 4;
       const double A = 0.5 * norm(cross(P[j] - P[i], P[k] - P[i]));
-      if (!(V > 0) || !(A > 0))
-        continue;
+      if (!(V > 0) || !(A > 0)) continue;
       const double H = 3 * V / A;
-      for (int q : {i, j, k})
-        kl[3 * T[q]] += penalty * A / (3 * H);
+      for (int q : {i, j, k}) kl[3 * T[q]] += penalty * A / (3 * H);
     }
   }
   PetscCall(VecRestoreArray(Kl, &kl));
@@ -255,8 +216,7 @@ PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscCall(VecGetArrayRead(M, &ma));
   for (size_t n = 0; n < fixed->size(); ++n) {
     const PetscReal k = PetscRealPart(kg[3 * n]), m = PetscRealPart(ma[3 * n]);
-    if ((*fixed)[n] || !(k > 0) || !(m > 0))
-      continue; // fixed nodes do not move
+    if ((*fixed)[n] || !(k > 0) || !(m > 0)) continue; // fixed nodes do not move
     *w2 = std::max(*w2, 4 * k / m);
   }
   PetscCall(VecRestoreArrayRead(M, &ma));
@@ -269,21 +229,18 @@ PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
 
 std::string MeshAdapter::BodyName(const Primitive &p) const {
   const char *name = nullptr;
-  if (FDEMDeformableGetBodyName(d_, p.body, nullptr, &name) || !name)
-    return "deformable body " + std::to_string((long long)p.body);
+  if (FDEMDeformableGetBodyName(d_, p.body, nullptr, &name) || !name) return "deformable body " + std::to_string((long long)p.body);
   return std::string("deformable body '") + name + "'";
 }
-std::string MeshAdapter::ElementName(const Primitive &p) const {
-  return "element " + std::to_string((long long)p.elem);
-}
+std::string MeshAdapter::ElementName(const Primitive &p) const { return "element " + std::to_string((long long)p.elem); }
 
 // A quarter of each cell's diameter in the reference configuration. Collective.
 PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
-  DM dm;
-  Vec X, Xl;
+  DM                 dm;
+  Vec                X, Xl;
   const PetscScalar *xa;
   PetscFunctionBegin;
-  *sum = 0;
+  *sum   = 0;
   *count = (PetscInt)conn_.size();
   PetscCall(FDEMDeformableGetDM(d_, &dm));
   PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
@@ -295,8 +252,7 @@ PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
         PetscReal dd = 0;
-        for (int k = 0; k < 3; ++k)
-          dd += PetscSqr(PetscRealPart(xa[3 * T[a] + k] - xa[3 * T[b] + k]));
+        for (int k = 0; k < 3; ++k) dd += PetscSqr(PetscRealPart(xa[3 * T[a] + k] - xa[3 * T[b] + k]));
         diam = std::max(diam, PetscSqrtReal(dd));
       }
     *sum += diam;

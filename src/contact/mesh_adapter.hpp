@@ -1,24 +1,21 @@
-// Internal: a deformable mesh (FDEMDeformable) as a body kind of the contact
-// engine. It lends its cells at the boundary (the nodes' current positions and
-// velocities) and adds the nodal forces to its force vector.
+// Internal: a deformable mesh (FDEMDeformable) as a body kind of the contact engine.
+// It lends its cells at the boundary (the nodes' current positions and velocities)
+// and adds the nodal forces to its force vector.
 #pragma once
-#include "../model/deformable_impl.hpp"
 #include "engine.hpp"
+#include "../model/deformable_impl.hpp"
 #include <fdem/deformable.h>
 
 namespace fdem::contact {
 class MeshAdapter : public Adapter {
 public:
-  // Which cells take part: those with a boundary face (the surface tetrahedra),
-  // or those with a vertex on the boundary (a rigid corner may enter through an
-  // edge).
+  // Which cells take part: those with a boundary face (the surface tetrahedra), or
+  // those with a vertex on the boundary (a rigid corner may enter through an edge).
   enum class Cells { BoundaryFace, BoundaryVertex };
   // Collective: finds the cells (after FDEMDeformableSetUp).
-  static PetscErrorCode Create(FDEMDeformable d, Cells which,
-                               MeshAdapter **out);
-  // Before each evaluation: local (ghosted) positions xl, velocities vl (may be
-  // null) and forces fl (added to), in the node numbering of the mesh's local
-  // vectors.
+  static PetscErrorCode Create(FDEMDeformable d, Cells which, MeshAdapter **out);
+  // Before each evaluation: local (ghosted) positions xl, velocities vl (may be null) and
+  // forces fl (added to), in the node numbering of the mesh's local vectors.
   void Bind(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl) {
     xl_ = xl;
     vl_ = vl;
@@ -27,63 +24,52 @@ public:
   // Without velocities: stop with an error (true) or take them as zero (false).
   void RequireVelocities(bool r) { require_v_ = r; }
   PetscErrorCode List(std::vector<Primitive> &prims) override;
-  PetscErrorCode Gather(const std::vector<int> *which, Vertices *x,
-                        Vertices *v) override;
-  PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x,
-                         const Vertices *f) override;
+  PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
+  PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
   PetscErrorCode MoveRatio(PetscReal *ratio) override;
   PetscErrorCode Searched() override;
-  PetscErrorCode Margins(PetscReal half, PetscInt evaluations,
-                         PetscReal *m) override;
-  const char *KindName() const override { return "mesh"; }
-  bool CanSelfContact() const override { return true; }
-  // Fracturable bodies (doc/fracture.md): their fragments are one body, so
-  // pairs within it are always computed, except between tetrahedra that share a
-  // node key (a node glued to its copies by intact joints), unless the two are
-  // the sides of a broken joint.
-  bool AlwaysSelfContact(PetscInt body) const override {
-    return fractured_ && fracturable_[body];
-  }
-  bool SelfPair(const Primitive &a, const Primitive &b) const override;
-  // The number of broken joints changed: the cells are selected again
-  // (collective).
+  PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) override;
+  const char    *KindName() const override { return "mesh"; }
+  bool           CanSelfContact() const override { return true; }
+  // Fracturable bodies (doc/fracture.md): their fragments are one body, so pairs within it
+  // are always computed, except between tetrahedra that share a node key (a node glued to
+  // its copies by intact joints), unless the two are the sides of a broken joint.
+  bool           AlwaysSelfContact(PetscInt body) const override { return fractured_ && fracturable_[body]; }
+  bool           SelfPair(const Primitive &a, const Primitive &b) const override;
+  // The number of broken joints changed: the cells are selected again (collective).
   PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
-  std::string BodyName(const Primitive &p) const override;
-  std::string ElementName(const Primitive &p) const override;
+  std::string    BodyName(const Primitive &p) const override;
+  std::string    ElementName(const Primitive &p) const override;
   PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) override;
-  // Total contact force on each body at the last evaluation, this rank's cells
-  // (3 per body).
+  // Total contact force on each body at the last evaluation, this rank's cells (3 per body).
   const std::vector<PetscReal> &BodyForce() const { return body_force_; }
-  PetscInt NumBodies() const { return nbodies_; }
-  PetscInt NumCells() const { return (PetscInt)conn_.size(); }
+  PetscInt                      NumBodies() const { return nbodies_; }
+  PetscInt                      NumCells() const { return (PetscInt)conn_.size(); }
 
 private:
-  // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the
-  // fracture topology (null when the mesh has no joints).
+  // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
+  // topology (null when the mesh has no joints).
   void Select(const fdem::model::FractureTopology *t);
-  struct AllCells { // every local cell, kept when the mesh has joints (the
-                    // selection changes)
+  struct AllCells { // every local cell, kept when the mesh has joints (the selection changes)
     std::vector<PetscInt> conn, body, gid, ngid;
-    std::vector<char> surf, bnode;
+    std::vector<char>     surf, bnode;
   } all_;
-  Cells which_ = Cells::BoundaryFace;
-  bool fractured_ = false;        // the mesh has joints
-  std::vector<char> fracturable_; // per body
-  PetscInt nbroken_ = 0;          // broken joints at the last selection
-  std::vector<std::array<PetscInt, 2>>
-      broken_; // their cells' ids, smaller first, sorted
-  FDEMDeformable d_ = nullptr;
-  PetscInt nbodies_ = 0;
-  std::vector<std::array<PetscInt, 4>> conn_; // local node indices
-  std::vector<Primitive> prims_; // body, global element id, node global ids
-  std::vector<char>
-      faces_; // bit o: the face opposite node o is on the boundary
-  std::vector<PetscReal> body_force_;
-  std::vector<Vertices> ref_; // vertex positions at the last search
-  PetscReal half_ = 0;        // the margin of every cell (Margins)
-  const PetscScalar *xl_ = nullptr, *vl_ = nullptr;
-  PetscScalar *fl_ = nullptr;
-  bool require_v_ = true;
+  Cells                                which_     = Cells::BoundaryFace;
+  bool                                 fractured_ = false; // the mesh has joints
+  std::vector<char>                    fracturable_;       // per body
+  PetscInt                             nbroken_ = 0;       // broken joints at the last selection
+  std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
+  FDEMDeformable                       d_ = nullptr;
+  PetscInt                             nbodies_ = 0;
+  std::vector<std::array<PetscInt, 4>> conn_;  // local node indices
+  std::vector<Primitive>               prims_; // body, global element id, node global ids
+  std::vector<char>                    faces_; // bit o: the face opposite node o is on the boundary
+  std::vector<PetscReal>               body_force_;
+  std::vector<Vertices>                ref_; // vertex positions at the last search
+  PetscReal                            half_ = 0; // the margin of every cell (Margins)
+  const PetscScalar                   *xl_ = nullptr, *vl_ = nullptr;
+  PetscScalar                         *fl_ = nullptr;
+  bool                                 require_v_ = true;
 };
 } // namespace fdem::contact
