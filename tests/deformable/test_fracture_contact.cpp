@@ -19,7 +19,8 @@
 //     while they are pressed, and they bounce apart; without contact the same run lets them
 //     pass through each other by more than 5e-4 m (so the bound above is a real test);
 //  5. one rank holding the whole bar and all ranks of the run agree on the gap history and
-//     the fragments' final states to 1e-10 relative (the middle joints straddle the ranks).
+//     the fragments' final states to 1e-10 relative (the crack straddles the ranks: some
+//     contact tetrahedra are ghosts).
 #include "common.hpp"
 
 #include <fdem/deformable_contact.h>
@@ -121,7 +122,7 @@ struct Result {
   PetscReal                 intact_mass = 0, mass = 0;
   std::vector<FDEMFragment> after_break, at_end;
   std::vector<double>       gap, energy;
-  PetscInt                  primitives_intact = 0, primitives_broken = 0;
+  PetscInt                  primitives_intact = 0, primitives_broken = 0, ghosts = 0;
 };
 
 PetscErrorCode Fragments(FDEMDeformable d, Vec U, std::vector<FDEMFragment> &out) {
@@ -175,6 +176,11 @@ PetscErrorCode Collide(MPI_Comm comm, bool contact, Result *r) {
   PetscCall(TSSetMaxTime(ts, 5e-5 + 1.5e-3));
   PetscCall(TSSolve(ts, U));
   PetscCall(FDEMDeformableGetJointStats(d, nullptr, &r->broken_end, nullptr));
+  if (p.c) {
+    FDEMDeformableContactStats st;
+    PetscCall(FDEMDeformableContactGetStats(p.c, &st));
+    r->ghosts = st.ghosts;
+  }
   PetscCall(Fragments(d, U, r->at_end));
   r->gap    = p.gap;
   r->energy = p.energy;
@@ -282,6 +288,8 @@ int main(int argc, char **argv) {
   CHECK(gmin > -1e-4, "with contact the fragments overlap by %.3e m (bound 1e-4)", -gmin);
   CHECK(emax > 0, "no contact energy while the fragments are pressed together");
   CHECK(gmin0 < -5e-4, "without contact the fragments should pass through each other (smallest gap %.3e)", gmin0);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ghost contact tetrahedra at the last search: %" PetscInt_FMT "\n", with.ghosts));
+  if (size > 1) CHECK(with.ghosts > 0, "on %d ranks no contact tetrahedron is a ghost: the crack does not straddle the ranks, so the test does not test that", size);
   if (with.at_end.size() == 2) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "at the end: vx %.4f and %.4f\n", (double)with.at_end[0].v[0], (double)with.at_end[1].v[0]));
     CHECK(with.at_end[0].v[0] < 0 && with.at_end[1].v[0] > 0, "the fragments did not bounce apart");
