@@ -107,7 +107,7 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, Pets
 typedef struct {
   PetscInt  body;  /* the body the fragment belongs to (FDEMDeformableGetBodyName) */
   PetscInt  cells; /* its tetrahedra */
-  PetscReal mass;  /* the sum of its nodes' lumped masses */
+  PetscReal mass;  /* the sum of its tetrahedra's masses rho V */
   PetscReal x[3];  /* its centre of mass */
   PetscReal v[3];  /* the velocity of its centre of mass (momentum / mass) */
 } FDEMFragment;

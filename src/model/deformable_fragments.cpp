@@ -216,7 +216,6 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
 PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *count, FDEMFragment *fragments[]) {
   fdem::model::FractureTopology t;
   StateView                     sv;
-  const PetscScalar            *ma;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
   PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
@@ -224,28 +223,40 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   const PetscInt nf = t.nfragments;
   if (count) *count = nf;
   if (!fragments) PetscFunctionReturn(0);
-  // each local node's fragment: that of a cell holding it (a node's cells are
-  // one fragment)
-  std::vector<PetscInt> frag(d->nlocal, -1);
-  for (std::size_t e = 0; e < d->ed.size(); ++e)
-    for (int a = 0; a < 4; ++a) frag[d->ed.elems[e].n[a]] = t.cell_fragment[e];
-  // per fragment: mass, m x (3), m v (3), cells
+  // per fragment: mass, m x (3), m v (3), cells; each tetrahedron puts a quarter of its mass
+  // rho V at each vertex (the lumped mass), so a node shared by two bodies' fragments counts
+  // in each with its tetrahedra's share, and no node is counted twice across ranks
   std::vector<PetscReal> loc(8 * (std::size_t)nf, 0.0), glob(8 * (std::size_t)nf);
-  for (std::size_t e = 0; e < d->ed.size(); ++e) loc[8 * t.cell_fragment[e] + 7] += 1;
+  Vec                    Xl, Vl;
+  const PetscScalar     *xl, *vl;
   PetscCall(sv.Get(d, U));
-  PetscCall(VecGetArrayRead(d->m, &ma));
-  for (PetscInt k = 0; k < d->nown; ++k) {
-    const PetscInt f = frag[d->owned_local[k]];
-    if (f < 0) continue;
-    const PetscReal m = PetscRealPart(ma[3 * k]);
-    loc[8 * f] += m;
-    for (int c = 0; c < 3; ++c) {
-      loc[8 * f + 1 + c] += m * PetscRealPart(sv.xa[3 * k + c]);
-      loc[8 * f + 4 + c] += m * PetscRealPart(sv.va[3 * k + c]);
-    }
-  }
-  PetscCall(VecRestoreArrayRead(d->m, &ma));
+  PetscCall(DMGetLocalVector(d->dm, &Xl));
+  PetscCall(DMGetLocalVector(d->dm, &Vl));
+  PetscCall(VecPlaceArray(d->gwork, sv.xa));
+  PetscCall(DMGlobalToLocal(d->dm, d->gwork, INSERT_VALUES, Xl));
+  PetscCall(VecResetArray(d->gwork));
+  PetscCall(VecPlaceArray(d->gwork, sv.va));
+  PetscCall(DMGlobalToLocal(d->dm, d->gwork, INSERT_VALUES, Vl));
+  PetscCall(VecResetArray(d->gwork));
   PetscCall(sv.Restore());
+  PetscCall(VecGetArrayRead(Xl, &xl));
+  PetscCall(VecGetArrayRead(Vl, &vl));
+  for (std::size_t e = 0; e < d->ed.size(); ++e) {
+    const auto     &el = d->ed.elems[e];
+    const PetscReal q  = d->ed.materials[el.material].rho * el.V0 / 4;
+    PetscReal      *F  = &loc[8 * (std::size_t)t.cell_fragment[e]];
+    F[0] += 4 * q;
+    F[7] += 1;
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c) {
+        F[1 + c] += q * PetscRealPart(xl[3 * el.n[a] + c]);
+        F[4 + c] += q * PetscRealPart(vl[3 * el.n[a] + c]);
+      }
+  }
+  PetscCall(VecRestoreArrayRead(Vl, &vl));
+  PetscCall(VecRestoreArrayRead(Xl, &xl));
+  PetscCall(DMRestoreLocalVector(d->dm, &Vl));
+  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
   PetscCall(MPIU_Allreduce(loc.data(), glob.data(), (PetscMPIInt)loc.size(), MPIU_REAL, MPIU_SUM, d->comm));
   PetscCall(PetscMalloc1(nf, fragments));
   for (PetscInt f = 0; f < nf; ++f) {

@@ -4,6 +4,9 @@
 // middle plane open at once and break within a few steps while the stress wave they send into
 // the halves stays below the strength. Then the two fragments are sent back towards each
 // other at 2 V2 and pressed together. Asserted:
+//  0. two tetrahedra of two bodies sharing a face are two fragments, one per body, of their
+//     own masses (whether the bodies are fracturable or not: no joint joins two bodies, and
+//     a node shared by two bodies counts in each with its tetrahedron's quarter);
 //  1. an intact fracturable bar is one fragment of the bar's mass, and its contact
 //     primitives are those of the unsplit bar (the tetrahedra with a face on its surface);
 //  2. a ringing intact fracturable bar gives bitwise the same state with contact on and off
@@ -245,6 +248,27 @@ int main(int argc, char **argv) {
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   const double mass = rho * L * 0.1 * 0.1;
+
+  // 0. two bodies sharing a face (not fracturable) are two fragments, one per body, of their
+  //    own masses; the same bodies fracturable are two fragments too (no joint between bodies)
+  for (int frac = 0; frac < 2; ++frac) {
+    FDEMDeformable    d;
+    FDEMFragment     *f;
+    PetscInt          n;
+    const PetscReal   X[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+    const PetscInt    T[] = {0, 1, 2, 3, 1, 2, 3, 4}, B[] = {0, 1};
+    const char *const names[] = {"anchor", "pebble"};
+    PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+    PetscCall(FDEMDeformableAddMaterial(d, "rock", E, nu, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
+    if (frac) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 50, 200, 10 * E));
+    PetscCall(FDEMDeformableSetMesh(d, 5, X, 2, T, B, 2, names));
+    PetscCall(FDEMDeformableSetUp(d));
+    PetscCall(FDEMDeformableGetFragments(d, nullptr, &n, &f));
+    CHECK(n == 2 && f[0].body == 0 && f[1].body == 1 && f[0].cells == 1 && f[1].cells == 1, "two bodies sharing a face (%s): %" PetscInt_FMT " fragments", frac ? "fracturable" : "whole", n);
+    if (n == 2) CHECK(std::fabs(f[0].mass - rho / 6) < 1e-12 * rho && std::fabs(f[1].mass - rho / 3) < 1e-12 * rho, "two bodies: fragment masses %g and %g, expected %g and %g", (double)f[0].mass, (double)f[1].mass, rho / 6, rho / 3);
+    PetscCall(PetscFree(f));
+    PetscCall(FDEMDeformableDestroy(&d));
+  }
 
   // 1-2. the intact fracturable bar: contact on = off bitwise; primitives of the unsplit bar
   {
