@@ -205,7 +205,7 @@ PetscErrorCode BuildDeformable(Sim &s) {
     s.ndofs += 3 * (s.nnodes - s.nfixed_nodes - s.nmoved_nodes);
     s.njoints = njoints;
   } else s.ndofs += 3 * (s.nnodes - (PetscInt)held.size());
-  if (sc.contact.present && s.deformable_bodies.size() >= 2) {
+  if (sc.contact.present && (s.deformable_bodies.size() >= 2 || njoints > 0)) { // the fragments of one fracturable body collide too
     PetscCall(FDEMDeformableContactCreate(s.dfm, &s.dc));
     PetscCall(FDEMDeformableContactSetPenalty(s.dc, sc.contact.penalty));
     PetscCall(FDEMDeformableContactSetDissipation(s.dc, sc.contact.normal_damping, sc.contact.friction, sc.contact.tangential_viscosity));

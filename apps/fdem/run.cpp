@@ -180,6 +180,45 @@ PetscErrorCode WriteBodies(Sim &s, const std::string &file) {
   PetscFunctionReturn(0);
 }
 
+// The fragments of the fracturable run (FDEMDeformableGetFragments): prints their number and,
+// when file is not empty, writes one row per fragment. Collective.
+PetscErrorCode WriteFragments(Sim &s, const std::string &file) {
+  PetscInt      n;
+  FDEMFragment *f;
+  PetscMPIInt   rank;
+  FILE         *fp  = nullptr;
+  int           err = 0;
+  PetscFunctionBeginUser;
+  if (!s.dfm || s.njoints == 0) PetscFunctionReturn(0);
+  if (s.U) PetscCall(SimRestore(s));
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(FDEMDeformableGetFragments(s.dfm, nullptr, &n, &f));
+  PetscCall(PetscPrintf(s.comm, "fragments: %" PetscInt_FMT " (connected pieces of the deformable bodies over their unbroken joints)%s%s\n", n, file.empty() ? "" : "; ", file.c_str()));
+  if (!file.empty() && rank == 0) {
+    fp  = std::fopen(file.c_str(), "w");
+    err = fp ? 0 : 1;
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  if (err) PetscCall(PetscFree(f));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_OPEN, "cannot write %s", file.c_str());
+  if (fp) {
+    std::fprintf(fp, "fragment,body,mass,x,y,z,vx,vy,vz\n");
+    for (PetscInt i = 0; i < n; ++i) {
+      const char *name;
+      PetscCall(FDEMDeformableGetBodyName(s.dfm, f[i].body, nullptr, &name));
+      std::fprintf(fp, "%" PetscInt_FMT ",%s,%.17g", i, name, (double)f[i].mass);
+      for (const PetscReal *v : {f[i].x, f[i].v})
+        for (int k = 0; k < 3; ++k) std::fprintf(fp, ",%.17g", (double)v[k]);
+      std::fprintf(fp, "\n");
+    }
+    err = std::fclose(fp) != 0;
+  }
+  PetscCall(PetscFree(f));
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "error writing %s", file.c_str());
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MakeDir(MPI_Comm comm, const std::string &dir) {
   PetscMPIInt rank;
   int         err = 0;
@@ -434,6 +473,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
                         b.fracture, b.dissipated, maxdP));
   PetscCall(PrintTimeSummary(comm, run));
   PetscCall(PrintContactSummary(s, nbodies));
+  PetscCall(WriteFragments(s, write ? fdir + "/fragments.csv" : std::string()));
   if (write)
     PetscCall(PetscPrintf(comm, "output: %s/balance.csv (energy and momentum balance; chart: fdem plot %s), %s/scene.xmf (%d frames of all bodies: open it in ParaView, choose the Xdmf3 reader, Apply, then play the animation)\n", dir.c_str(),
                           dir.c_str(), fdir.c_str(), (int)frames.size()));

@@ -83,7 +83,11 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
    (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field
    callbacks still use the input mesh's ids (an input node stands for all its copies), while node ids and
    counts that the library reports are those of the split mesh. Joints that straddle
-   ranks are computed by the rank of one side. Not yet: broken joints as contact surfaces, fragments. */
+   ranks are computed by the rank of one side. A joint is broken when all three of its
+   points are; its two faces then become contact surfaces of the contact engine
+   (FDEMDeformableContact and a scene's rigid-deformable contact) and the body may fall
+   into fragments (FDEMDeformableGetFragments). The joints' energy: GetJointEnergy;
+   their state in checkpoints: View/LoadJointState. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
@@ -105,6 +109,21 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable dfm, Vec
    the first bad joint. Nothing is written or read without joints. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable dfm, PetscViewer viewer);
 PETSC_EXTERN PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable dfm, PetscViewer viewer);
+/* Fragments: the connected components of the tetrahedra of each body, two tetrahedra being
+   connected when they share a node or are held by a joint that is not broken (an unsplit
+   body, or a fracturable one with no crack through it, is one fragment). Collective, at the
+   state U (NULL: the stored state). *count gets the number of fragments; *fragments (may be
+   NULL) gets an array of them, allocated with PetscMalloc1 (free it with PetscFree), ordered
+   by body and then by the smallest element id in the fragment, which is the same on any
+   number of ranks. */
+typedef struct {
+  PetscInt  body;  /* the body the fragment belongs to (FDEMDeformableGetBodyName) */
+  PetscInt  cells; /* its tetrahedra */
+  PetscReal mass;  /* the sum of its tetrahedra's masses rho V */
+  PetscReal x[3];  /* its centre of mass */
+  PetscReal v[3];  /* the velocity of its centre of mass (momentum / mass) */
+} FDEMFragment;
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable dfm, Vec U, PetscInt *count, FDEMFragment *fragments[]);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
 /* Force terms chain: each added function adds its nodal forces to floc at every force
    evaluation, in the order added (a user's load, contact, ...); none replaces another.

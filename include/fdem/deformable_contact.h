@@ -23,7 +23,8 @@
                                    moved more than half of it (default: a quarter of the mean diameter
                                    of the surface tetrahedra)
      self <bool>                   contact between surface tetrahedra of the same body that share no
-                                   node (default false)
+                                   node (default false). Bodies of a fracturable material always have it:
+                                   their broken joints' faces and fragments touch (doc/fracture.md)
 
    Parallel: at each search every rank's region (8 boxes from a k-d split of
    the bounding spheres of its own surface tetrahedra, with half the buffer)

@@ -316,7 +316,7 @@ PetscErrorCode Engine::Search() {
     if (s == rank_) continue;
     for (int i = 0; i < nl; ++i) {
       const Primitive &p    = prim_[i];
-      const bool       self = par_.self && adapters_[p.kind]->CanSelfContact();
+      const bool       self = (par_.self && adapters_[p.kind]->CanSelfContact()) || adapters_[p.kind]->AlwaysSelfContact(p.body);
       const double    *pb   = &boxes[6 * (size_t)i];
       for (int q = 0; q < nbox; ++q) {
         const double  *b    = &all[BW * ((size_t)s * nbox + q)];
@@ -377,11 +377,9 @@ PetscErrorCode Engine::Search() {
         const double gap = A.margin + B.margin;
         if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
-          if (!(par_.self && adapters_[A.kind]->CanSelfContact())) continue;
-          bool share = false;
-          for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) share = share || (A.node[i] >= 0 && A.node[i] == B.node[j]);
-          if (share) continue;
+          const Adapter *ad = adapters_[A.kind];
+          if (!((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
+          if (!ad->SelfPair(A, B)) continue;
         }
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
@@ -431,6 +429,11 @@ PetscErrorCode Engine::Evaluate() {
     PetscCall(TSGetTimeStep(ts_, &dt));
     PetscCall(FDEMSchemeInfoFind(type, &found, &info));
     if (found && dt > 0) PetscCall(CheckTimeStep(type, dt, &stats_.dt_ratio));
+  }
+  for (auto *a : adapters_) { // primitives that appeared (fracture): list them again
+    PetscBool changed;
+    PetscCall(a->Changed(&changed));
+    if (changed) listed_ = false;
   }
   if (!listed_) PetscCall(ListAll());
   with_v_ = par_.Dissipative();

@@ -81,6 +81,27 @@ public:
   virtual const char *KindName() const = 0;
   // May two primitives of one body touch (self-contact, when switched on)?
   virtual bool CanSelfContact() const { return false; }
+  // May two primitives of body `body` touch even with self-contact off? (the fragments of a
+  // fracturable mesh body are one body)
+  virtual bool AlwaysSelfContact(PetscInt body) const {
+    (void)body;
+    return false;
+  }
+  // Two primitives of one body that may self-contact: do they form a pair? Default: unless
+  // they share a node (node ids >= 0 equal). Called at a search, on the rank computing the pair.
+  virtual bool SelfPair(const Primitive &a, const Primitive &b) const {
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        if (a.node[i] >= 0 && a.node[i] == b.node[j]) return false;
+    return true;
+  }
+  // Have this adapter's primitives changed since its last List() (fracture: new contact
+  // surfaces)? The engine then lists them again. Called at every evaluation; the answer must
+  // be the same on every rank. Collective.
+  virtual PetscErrorCode Changed(PetscBool *changed) {
+    *changed = PETSC_FALSE;
+    return 0;
+  }
   // The largest contact frequency squared, omega^2, of this rank's bodies for the given
   // penalty (0: none). Collective.
   virtual PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) = 0;

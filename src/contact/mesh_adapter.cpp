@@ -10,38 +10,101 @@
 
 namespace fdem::contact {
 PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **out) {
-  PetscInt nc, nlocal;
-  MPI_Comm comm;
-  DM       dm;
+  PetscInt  nc, nlocal;
+  MPI_Comm  comm;
+  DM        dm;
+  PetscBool joints;
   PetscFunctionBegin;
   PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, nullptr, nullptr, nullptr, nullptr)); // also checks set-up
   PetscCall(FDEMDeformableGetDM(d, &dm));
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
-  std::vector<PetscInt> conn(4 * (size_t)nc), body(nc), gid(nc), ngid(nlocal);
-  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, conn.data(), body.data(), gid.data(), ngid.data()));
-  std::vector<char> surf, bnode;
-  PetscCall(BoundaryFaces(comm, conn, ngid, surf));
-  if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, conn, surf, nlocal, bnode));
+  PetscCall(fdem::model::DeformableHasJoints(d, &joints));
   MeshAdapter *m = new (std::nothrow) MeshAdapter();
   PetscCheck(m, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory");
-  m->d_ = d;
+  m->d_         = d;
+  m->which_     = which;
+  m->fractured_ = joints;
+  AllCells &A   = m->all_;
+  A.conn.resize(4 * (size_t)nc);
+  A.body.resize(nc);
+  A.gid.resize(nc);
+  A.ngid.resize(nlocal);
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, A.conn.data(), A.body.data(), A.gid.data(), A.ngid.data()));
+  PetscCall(BoundaryFaces(comm, A.conn, A.ngid, A.surf));
+  if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
   PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
-  for (PetscInt e = 0; e < nc; ++e) {
-    bool on = surf[e] != 0;
-    if (which == Cells::BoundaryVertex)
-      for (int k = 0; k < 4; ++k) on = on || bnode[conn[4 * e + k]];
-    if (!on) continue;
-    Primitive p;
-    p.body = body[e];
-    p.elem = gid[e];
-    p.key  = gid[e];
-    for (int k = 0; k < 4; ++k) p.node[k] = ngid[conn[4 * e + k]];
-    m->conn_.push_back({conn[4 * e], conn[4 * e + 1], conn[4 * e + 2], conn[4 * e + 3]});
-    m->prims_.push_back(p);
-    m->faces_.push_back(surf[e]);
+  if (joints) { // the cells of fracturable bodies are chosen by the fracture topology
+    fdem::model::FractureTopology t;
+    PetscCall(fdem::model::DeformableFractureTopology(d, t));
+    m->fracturable_ = t.fracturable;
+    m->nbroken_     = t.nbroken;
+    m->broken_      = t.broken_pairs;
+    m->Select(&t);
+  } else {
+    m->Select(nullptr);
+    m->all_ = AllCells(); // not needed again
   }
   m->body_force_.assign(3 * (size_t)m->nbodies_, 0);
   *out = m;
+  PetscFunctionReturn(0);
+}
+
+// A cell of a body that is not fracturable takes part when it has a boundary face (or, for
+// Cells::BoundaryVertex, a boundary vertex), its node ids those of the mesh. A cell of a
+// fracturable body takes part when it has a free face (on the body's outer surface or on a
+// broken joint; or a vertex on such a face), its node ids the node keys of the topology.
+// Before any joint breaks, these are the cells at the surface of the unsplit body.
+void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
+  const AllCells &A  = all_;
+  const size_t    nc = A.body.size();
+  conn_.clear();
+  prims_.clear();
+  faces_.clear();
+  for (size_t e = 0; e < nc; ++e) {
+    const bool frac = t && t->fracturable[A.body[e]];
+    char       surf = A.surf[e];
+    bool       on;
+    if (frac) {
+      surf = (char)(t->cell_free[e] & 0xF);
+      on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10));
+    } else {
+      on = surf != 0;
+      if (which_ == Cells::BoundaryVertex)
+        for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
+    }
+    if (!on) continue;
+    Primitive p;
+    p.body = A.body[e];
+    p.elem = A.gid[e];
+    p.key  = A.gid[e];
+    for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
+    conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
+    prims_.push_back(p);
+    faces_.push_back(surf);
+  }
+}
+
+bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
+  if (fractured_ && fracturable_[a.body]) {
+    const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
+    if (std::binary_search(broken_.begin(), broken_.end(), k)) return true; // the two sides of a broken joint
+  }
+  return Adapter::SelfPair(a, b);
+}
+
+PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
+  PetscInt n;
+  PetscFunctionBegin;
+  *changed = PETSC_FALSE;
+  if (!fractured_) PetscFunctionReturn(0);
+  PetscCall(fdem::model::DeformableBrokenJoints(d_, &n)); // the same on every rank
+  if (n == nbroken_) PetscFunctionReturn(0);
+  fdem::model::FractureTopology t;
+  PetscCall(fdem::model::DeformableFractureTopology(d_, t));
+  nbroken_ = t.nbroken;
+  broken_  = t.broken_pairs;
+  Select(&t);
+  *changed = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

@@ -3,6 +3,7 @@
 // and adds the nodal forces to its force vector.
 #pragma once
 #include "engine.hpp"
+#include "../model/deformable_impl.hpp"
 #include <fdem/deformable.h>
 
 namespace fdem::contact {
@@ -30,6 +31,13 @@ public:
   PetscErrorCode Margins(PetscReal half, PetscInt evaluations, PetscReal *m) override;
   const char    *KindName() const override { return "mesh"; }
   bool           CanSelfContact() const override { return true; }
+  // Fracturable bodies (doc/fracture.md): their fragments are one body, so pairs within it
+  // are always computed, except between tetrahedra that share a node key (a node glued to
+  // its copies by intact joints), unless the two are the sides of a broken joint.
+  bool           AlwaysSelfContact(PetscInt body) const override { return fractured_ && fracturable_[body]; }
+  bool           SelfPair(const Primitive &a, const Primitive &b) const override;
+  // The number of broken joints changed: the cells are selected again (collective).
+  PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
   std::string    ElementName(const Primitive &p) const override;
@@ -40,6 +48,18 @@ public:
   PetscInt                      NumCells() const { return (PetscInt)conn_.size(); }
 
 private:
+  // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
+  // topology (null when the mesh has no joints).
+  void Select(const fdem::model::FractureTopology *t);
+  struct AllCells { // every local cell, kept when the mesh has joints (the selection changes)
+    std::vector<PetscInt> conn, body, gid, ngid;
+    std::vector<char>     surf, bnode;
+  } all_;
+  Cells                                which_     = Cells::BoundaryFace;
+  bool                                 fractured_ = false; // the mesh has joints
+  std::vector<char>                    fracturable_;       // per body
+  PetscInt                             nbroken_ = 0;       // broken joints at the last selection
+  std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
   FDEMDeformable                       d_ = nullptr;
   PetscInt                             nbodies_ = 0;
   std::vector<std::array<PetscInt, 4>> conn_;  // local node indices

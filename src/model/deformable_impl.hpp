@@ -21,4 +21,29 @@ PetscErrorCode DeformableGetLocalCells(FDEMDeformable d, std::vector<std::array<
 PetscErrorCode DeformableGetFixed(FDEMDeformable d, const std::vector<char> **fixed);
 // The TS of the last FDEMDeformableSetUpTS (NULL if none; not referenced).
 PetscErrorCode DeformableGetTS(FDEMDeformable d, TS *ts);
+
+// Broken joints and fragments (deformable_fragments.cpp, doc/fracture.md). A joint is
+// broken when all three of its points are. The topology of the fractured mesh:
+struct FractureTopology {
+  PetscInt                             nbroken    = 0; // broken joints (all ranks)
+  PetscInt                             nfragments = 0; // connected components over shared nodes and intact joints
+  std::vector<PetscInt>                fragment_body;  // per fragment (every rank)
+  std::vector<PetscInt>                cell_fragment;  // per local cell (FDEMDeformableGetLocalCells order)
+  std::vector<char>                    fracturable;    // per body: 1 if fracturable (every rank)
+  // per local cell of a fracturable body (0 elsewhere): bit o set when the face opposite
+  // node o is free (on the body's outer surface or on a broken joint); bit 4 set when a
+  // vertex lies on the free surface (its key is that of a node of a free face)
+  std::vector<unsigned char>           cell_free;
+  // 4 per local cell: the key of each node, the smallest split-mesh id among the copies of
+  // its input node glued to it through intact joints (its own id outside fracturable bodies)
+  std::vector<PetscInt>                cell_key;
+  std::vector<std::array<PetscInt, 2>> broken_pairs; // the two cell ids of every broken joint, smaller first, sorted (every rank)
+};
+// Collective (gathers the cells and joints to rank 0 and scatters the result back).
+PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
+// The number of broken joints (all ranks); collective when the mesh has joints, 0 at once
+// (no communication) when it has none.
+PetscErrorCode DeformableBrokenJoints(FDEMDeformable d, PetscInt *nbroken);
+// Whether the mesh has fracture joints (the same on every rank).
+PetscErrorCode DeformableHasJoints(FDEMDeformable d, PetscBool *has);
 } // namespace fdem::model

@@ -7,6 +7,7 @@
 //   deformable_diagnostics.cpp stress, energy, momentum, node state, smallest det F
 //   deformable_output.cpp      HDF5 + XDMF output
 //   deformable_joints.cpp      fracture joints: split meshes, joint forces across ranks
+//   deformable_fragments.cpp   broken joints and fragments (the topology contact and output use)
 // Other layers use src/model/deformable_impl.hpp, never this file.
 //
 // Layout after FDEMDeformableSetUp, on each rank:

@@ -92,6 +92,14 @@ int main(int argc, char **argv) {
   PetscCall(TwoTets(d, false, false));
   PetscCall(ExpectError("missing material", {"body 'pebble'", "'basalt'", "not in the material table"}, [&]() { return FDEMDeformableSetUp(d); }));
 
+  // fragments before set-up, and with nothing to return
+  PetscCall(Fresh(&d));
+  PetscCall(ExpectError("fragments before set-up", {"FDEMDeformableGetFragments", "FDEMDeformableSetUp"}, [&]() { return FDEMDeformableGetFragments(d, nullptr, nullptr, nullptr); }));
+  PetscCall(FDEMDeformableAddMaterial(d, "granite", 5e10, 0.25, 2700, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(TwoTets(d, false, false));
+  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(ExpectError("fragments with no output", {"FDEMDeformableGetFragments", "count or fragments"}, [&]() { return FDEMDeformableGetFragments(d, nullptr, nullptr, nullptr); }));
+
   // nu >= 0.5
   PetscCall(Fresh(&d));
   PetscCall(ExpectError("nu = 0.5", {"rubber", "Poisson"}, [&]() { return FDEMDeformableAddMaterial(d, "rubber", 1e6, 0.5, 1100, 0, FDEM_MATERIAL_NEO_HOOKEAN); }));
