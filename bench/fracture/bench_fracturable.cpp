@@ -1,0 +1,99 @@
+// The cost of a fracturable body per step (doc/fracture.md, "Speed"): the same box of
+// n^3 cubes (6 n^3 tetrahedra) stepped by -ts_type cd, whole and split into joints (a
+// joint on every interior face, strengths far above the load so that nothing softens,
+// and then every joint softening), at the same time step, in interleaved rounds in one
+// process. Prints CPU seconds per step of each and the ratios split / whole.
+// Options: -n 16 (cubes per side) -steps 50 -rounds 3
+#include <fdem.h>
+#include <fdem/deformable.h>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <vector>
+
+static double CpuSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// a small random motion, far below the strength for `intact`; an opening stretch of
+// 3% (past every joint's peak: they soften) for the damaged case
+static PetscReal g_stretch = 0;
+static PetscErrorCode Shake(PetscInt id, const PetscReal X[3], PetscReal v[3], void *) {
+  for (int k = 0; k < 3; ++k) v[k] = 1e-3 * std::cos(0.73 * id + k) + g_stretch * X[k];
+  return 0;
+}
+
+// kind 0: whole; 1: split, intact joints; 2: split, joints softening
+static PetscErrorCode Run(PetscInt n, PetscInt steps, int kind, double dt, double *cpu_per_step, PetscInt *joints) {
+  FDEMDeformable d;
+  TS             ts;
+  Vec            U;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.25, 2000, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  // intact: f_t 1 GPa, never reached; softening: f_t 1 Pa with a large G: the joints pass their peak within a
+  // few steps of the stretch and soften without breaking
+  if (kind == 1) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e9, 3e9, 30, 1e9, 1e10, 1e10));
+  if (kind == 2) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1, 3, 30, 1e3, 1e4, 1e10));
+  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, n, n, n));
+  g_stretch = kind == 2 ? 30.0 : 0.0; // 30 /s: a strain of 3% per ms
+  PetscCall(FDEMDeformableSetUp(d));
+  PetscCall(FDEMDeformableSetVelocityField(d, Shake, nullptr));
+  PetscCall(FDEMDeformableGetJointStats(d, joints, nullptr, nullptr));
+  PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+  PetscCall(TSSetType(ts, TSFDEMCD));
+  PetscCall(FDEMDeformableSetUpTS(d, ts, &U));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetMaxSteps(ts, steps));
+  PetscCall(TSSetMaxTime(ts, 1e30));
+  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSSetUp(ts));
+  PetscCall(TSStep(ts)); // the first step pays for first-touch set-up
+  const double c0 = CpuSeconds();
+  PetscCall(TSSolve(ts, U));
+  double c = CpuSeconds() - c0, cmax;
+  PetscCallMPI(MPI_Allreduce(&c, &cmax, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD));
+  PetscInt done;
+  PetscCall(TSGetStepNumber(ts, &done));
+  *cpu_per_step = cmax / std::max<PetscInt>(1, done - 1);
+  if (kind == 2) {
+    PetscReal D;
+    PetscCall(FDEMDeformableGetJointStats(d, nullptr, nullptr, &D));
+    PetscCheck(D > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "bench: the joints of the softening case did not soften");
+  }
+  PetscCall(VecDestroy(&U));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv) {
+  PetscInt n = 16, steps = 50, rounds = 3;
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscCall(FDEMInitializePackage());
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-n", &n, nullptr));
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-steps", &steps, nullptr));
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-rounds", &rounds, nullptr));
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  const double dt = 1e-7; // below every case's limit (the joints' at p = 10 E), the same for all
+  std::vector<double> best(3, 1e300);
+  PetscInt            nj[3] = {0, 0, 0};
+  for (PetscInt r = 0; r < rounds; ++r)
+    for (int kind = 0; kind < 3; ++kind) {
+      double c;
+      PetscCall(Run(n, steps, kind, dt, &c, &nj[kind]));
+      best[kind] = std::min(best[kind], c);
+    }
+  const double tets = 6.0 * n * n * n;
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "box of %" PetscInt_FMT "^3 cubes, %.0f tetrahedra, %d rank(s), cd, %" PetscInt_FMT " steps, best of %" PetscInt_FMT " interleaved rounds (CPU s per step, busiest rank)\n", n, tets, size, steps, rounds));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  whole body            %.4e s/step  (%.3g tet-steps/s/core)\n", best[0], tets / (best[0] * size)));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  split, intact joints  %.4e s/step  (%" PetscInt_FMT " joints, %.2f per tetrahedron)  ratio to whole %.2f\n", best[1], nj[1], nj[1] / tets, best[1] / best[0]));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  split, joints softening %.4e s/step  ratio to whole %.2f\n", best[2], best[2] / best[0]));
+  PetscCall(PetscFinalize());
+  return 0;
+}
