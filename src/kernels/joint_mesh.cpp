@@ -2,7 +2,9 @@
 #include <fdem/kernels/joint_mesh.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
+#include <unordered_map>
 
 #include <fdem/kernels/error.hpp>
 
@@ -20,6 +22,87 @@ std::vector<TetFace> SortedFaces(const std::vector<std::array<int, 4>> &tets) {
   std::sort(faces.begin(), faces.end(), [](const TetFace &a, const TetFace &b) { return a.key < b.key || (a.key == b.key && a.tet < b.tet); });
   return faces;
 }
+
+namespace {
+std::string Element(const TetMesh &mesh, int t) {
+  std::string e = "element " + std::to_string(t);
+  if (t < static_cast<int>(mesh.tet_line.size())) e += " (line " + std::to_string(mesh.tet_line[t]) + ")";
+  return e;
+}
+
+// A fracturable body's mesh must be conforming: a face is held by at most two of its
+// tetrahedra, and two of its tetrahedra that touch across a face share that face's
+// nodes (else no joint can hold them: the body would carry a hidden crack). The
+// second is found from the boundary faces (held by one tetrahedron): one whose centroid
+// lies on another boundary face of the same body, in its plane, with the opposite
+// normal, is an interface the mesh does not connect (hanging nodes, or duplicated
+// nodes). A uniform grid of the boundary faces' boxes keeps it linear.
+void CheckConforming(const TetMesh &mesh, const std::vector<TetFace> &faces, const std::vector<char> &split_body) {
+  auto split = [&](int t) { return split_body[mesh.body[t]] != 0; };
+  struct Face {
+    int  tet;
+    Vec3 v[3], n, c; // vertices, unit normal (outward), centroid
+  };
+  std::vector<Face> bnd;
+  double            hsum = 0;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (split(faces[i].tet)) {
+      if (j - i > 2) {
+        std::string who;
+        for (std::size_t k = i; k < j; ++k) who += (k > i ? ", " : "") + Element(mesh, faces[k].tet);
+        throw InputError("fracturable body '" + mesh.body_names[mesh.body[faces[i].tet]] + "': the face of nodes " + std::to_string(faces[i].key[0]) + ", " + std::to_string(faces[i].key[1]) + ", " +
+                         std::to_string(faces[i].key[2]) + " is held by " + std::to_string(j - i) + " tetrahedra (" + who + "); a fracturable mesh must be conforming, each face between at most two tetrahedra");
+      }
+      if (j - i == 1) {
+        Face f;
+        f.tet = faces[i].tet;
+        for (int m = 0; m < 3; ++m) f.v[m] = mesh.nodes[mesh.tets[f.tet][kTetFace[faces[i].local][m]]];
+        const Vec3 a = cross(f.v[1] - f.v[0], f.v[2] - f.v[0]);
+        const double A = norm(a);
+        if (A > 0) {
+          f.n = (1.0 / A) * a;
+          f.c = (1.0 / 3.0) * (f.v[0] + f.v[1] + f.v[2]);
+          hsum += norm(f.v[1] - f.v[0]);
+          bnd.push_back(f);
+        }
+      }
+    }
+    i = j;
+  }
+  if (bnd.empty()) return;
+  const double h = 2 * hsum / bnd.size(); // the grid's cell: twice the mean edge
+  auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
+  auto key = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
+  std::unordered_multimap<long long, int> grid;
+  for (int f = 0; f < static_cast<int>(bnd.size()); ++f) {
+    Vec3 lo = bnd[f].v[0], hi = bnd[f].v[0];
+    for (int m = 1; m < 3; ++m) {
+      lo = Vec3(std::fmin(lo.x, bnd[f].v[m].x), std::fmin(lo.y, bnd[f].v[m].y), std::fmin(lo.z, bnd[f].v[m].z));
+      hi = Vec3(std::fmax(hi.x, bnd[f].v[m].x), std::fmax(hi.y, bnd[f].v[m].y), std::fmax(hi.z, bnd[f].v[m].z));
+    }
+    for (long long i = cell(lo.x); i <= cell(hi.x); ++i)
+      for (long long j = cell(lo.y); j <= cell(hi.y); ++j)
+        for (long long k = cell(lo.z); k <= cell(hi.z); ++k) grid.emplace(key(i, j, k), f);
+  }
+  for (const Face &f : bnd) {
+    const auto range = grid.equal_range(key(cell(f.c.x), cell(f.c.y), cell(f.c.z)));
+    for (auto it = range.first; it != range.second; ++it) {
+      const Face &g = bnd[it->second];
+      if (g.tet == f.tet || mesh.body[g.tet] != mesh.body[f.tet] || dot(f.n, g.n) > -0.99) continue;
+      const double size = norm(g.v[1] - g.v[0]) + norm(g.v[2] - g.v[1]) + norm(g.v[0] - g.v[2]);
+      if (std::fabs(dot(g.n, f.c - g.v[0])) > 1e-6 * size) continue; // not in g's plane
+      // f's centroid inside g (barycentric coordinates, a small tolerance)
+      bool inside = true;
+      for (int m = 0; m < 3 && inside; ++m) inside = dot(cross(g.v[(m + 1) % 3] - g.v[m], f.c - g.v[m]), g.n) > -1e-9 * size * size;
+      if (inside)
+        throw InputError("fracturable body '" + mesh.body_names[mesh.body[f.tet]] + "': " + Element(mesh, f.tet) + " and " + Element(mesh, g.tet) +
+                         " touch across a face whose nodes they do not share (a non-conforming mesh: hanging or duplicated nodes); no joint could hold them together. Mesh the body conformingly");
+    }
+  }
+}
+} // namespace
 
 SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body) {
   if (static_cast<int>(split_body.size()) != mesh.NumBodies())
@@ -50,6 +133,7 @@ SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_bod
     }
   // joints: faces held by exactly two split tetrahedra of one body
   const std::vector<TetFace> faces = SortedFaces(mesh.tets);
+  CheckConforming(mesh, faces, split_body);
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;

@@ -165,3 +165,56 @@ TEST(JointMesh, CutPlaneOpensUniformly) {
   EXPECT_NEAR(pull.x, 0.0, 1e-9 * mat.tensile_strength * 0.01);
   EXPECT_NEAR(pull.y, 0.0, 1e-9 * mat.tensile_strength * 0.01);
 }
+
+// A fracturable body's mesh must be conforming; each kind of non-conformity is named.
+namespace {
+// Two boxes side by side at x = 1 in one body; nodes at the same place merged when merge.
+TetMesh Glued(int n_right, bool merge) {
+  TetMesh a = MakeBoxMesh({0, 0, 0}, {1, 1, 1}, 1, 1, 1);
+  const TetMesh b = MakeBoxMesh({1, 0, 0}, {2, 1, 1}, n_right, n_right, n_right);
+  std::vector<int> id(b.nodes.size());
+  for (std::size_t i = 0; i < b.nodes.size(); ++i) {
+    id[i] = -1;
+    for (std::size_t k = 0; merge && k < a.nodes.size() && id[i] < 0; ++k)
+      if (norm(a.nodes[k] - b.nodes[i]) < 1e-12) id[i] = static_cast<int>(k);
+    if (id[i] < 0) {
+      id[i] = static_cast<int>(a.nodes.size());
+      a.nodes.push_back(b.nodes[i]);
+    }
+  }
+  for (auto t : b.tets) {
+    for (int &n : t) n = id[n];
+    a.tets.push_back(t);
+  }
+  a.body.assign(a.tets.size(), 0);
+  a.body_names = {"wall"};
+  return a;
+}
+void ExpectSplitError(const TetMesh &m, const std::string &text) {
+  try {
+    SplitForJoints(m, {1});
+    ADD_FAILURE() << "no error, expected: " << text;
+  } catch (const InputError &e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+} // namespace
+
+TEST(JointMesh, NonConformingMeshesAreNamed) {
+  // conforming: the two boxes share the nodes of their common face -> joints across it
+  const SplitMesh ok = SplitForJoints(Glued(1, true), {1});
+  EXPECT_EQ(ok.joints.size(), 6u + 6u + 2u) << "each cube has 6 inner faces, and the shared face is 2 triangles";
+  // the same boxes with their own nodes on the common face: nothing would hold them together
+  ExpectSplitError(Glued(1, false), "touch across a face whose nodes they do not share");
+  // hanging nodes: a 2 x 2 x 2 box against one cube, the cube's face corners shared
+  ExpectSplitError(Glued(2, true), "fracturable body 'wall': element ");
+  // three tetrahedra on one face
+  TetMesh fan;
+  fan.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}, {1, 1, 1}};
+  fan.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}, {0, 1, 2, 5}};
+  fan.body = {0, 0, 0};
+  fan.body_names = {"fan"};
+  ExpectSplitError(fan, "is held by 3 tetrahedra (element 0, element 1, element 2)");
+  // the same meshes in a body that is not fracturable: nothing is checked (no joints to make)
+  EXPECT_NO_THROW(SplitForJoints(Glued(2, true), {0}));
+}

@@ -30,7 +30,12 @@ struct SplitMesh {
 // shared by two of them (same body) becomes a joint. Nodes of other bodies
 // are kept, renumbered in order of first use, and their tetrahedra are
 // unchanged. The input must be a valid oriented mesh (ParseGmsh or
-// OrientTets); throws InputError when split_body has the wrong size.
+// OrientTets); throws InputError when split_body has the wrong size, and, naming
+// the body and the elements (with their file lines when the mesh has them), when a
+// split body's mesh is not conforming: a face held by more than two tetrahedra, or
+// two tetrahedra that touch across a face without sharing its nodes (hanging or
+// duplicated nodes: found from the boundary faces, one lying on another with the
+// opposite normal; a grid keeps it linear).
 SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body);
 
 // The faces of a mesh, each once with the tetrahedra that hold it: for the
