@@ -1,0 +1,46 @@
+// A sphere against a triangulated surface (doc/spheres.md, "A sphere against a
+// surface"): the closest point of a triangle, and the contacts of one sphere with
+// the triangles of one body, one per touched feature (face, edge or vertex), so that
+// a sphere rolling over an edge or a vertex feels one force that turns continuously,
+// and a sphere in a concave corner feels each face. The surface of a rigid body's
+// skin or of a deformable body's boundary; the force law is GranularForce
+// (granular.hpp). Pure functions on doubles; no PETSc, no MPI.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "fdem/kernels/vec3.hpp"
+
+namespace fdem::kernels {
+
+// The feature of a triangle (a, b, c) that holds a closest point.
+enum class TriFeature { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };
+
+struct TriangleClosest {
+  Vec3       p;       // the closest point of the triangle to x
+  TriFeature feature; // where it lies: the open face, an open edge, or a vertex
+};
+
+// The point of the triangle (a, b, c) closest to x (barycentric regions; a degenerate
+// triangle gives the closest point of its longest edge).
+TriangleClosest ClosestPointOnTriangle(const Vec3 &x, const Vec3 &a, const Vec3 &b, const Vec3 &c);
+
+struct SurfaceContact {
+  int    tri;     // the triangle that holds the contact point (the first, for a shared edge or vertex)
+  Vec3   point;   // the contact point on the surface
+  Vec3   n;       // unit normal, from the surface towards the sphere's centre
+  double overlap; // r - |x - point| > 0
+  TriFeature feature;
+};
+
+// The contacts of the sphere (centre x, radius r > 0) with the triangles `candidates`
+// (indices into tris, e.g. from a search) of one surface: triangles of node indices
+// into nodes. One contact per touched feature: a point on an edge or a vertex shared by
+// several triangles counts once, and it does not count at all when a triangle that
+// holds that edge or vertex touches the sphere with a point inside its face (the
+// sphere is over that face: the face's contact is the one to feel; likewise a vertex
+// of a touched edge). Where the surface is concave each face touched counts.
+// Deterministic: contacts in the order of the candidates.
+std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates);
+
+} // namespace fdem::kernels

@@ -1,0 +1,136 @@
+// A sphere against a triangulated surface (fdem/kernels/sphere_surface.hpp,
+// doc/spheres.md): the closest point of a triangle against a brute-force search; one
+// contact per touched feature on a cube's skin (face, edge, vertex), with an overlap
+// and a normal that stay continuous as the sphere rolls over an edge and around a
+// vertex; no second contact from an edge next to the face the sphere is over; two
+// contacts in a concave corner.
+#include <fdem/kernels/granular.hpp>
+#include <fdem/kernels/sphere_surface.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace fdem::kernels;
+
+namespace {
+// The unit cube's skin, 12 triangles (2 per face).
+void Cube(std::vector<Vec3> &nodes, std::vector<std::array<int, 3>> &tris) {
+  nodes.clear();
+  for (int k = 0; k < 8; ++k) nodes.push_back(Vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  tris.clear();
+  for (const auto &q : quads) {
+    tris.push_back({q[0], q[1], q[2]});
+    tris.push_back({q[0], q[2], q[3]});
+  }
+}
+std::vector<int> All(std::size_t n) {
+  std::vector<int> c(n);
+  for (std::size_t i = 0; i < n; ++i) c[i] = (int)i;
+  return c;
+}
+} // namespace
+
+TEST(SphereSurface, ClosestPointMatchesBruteForce) {
+  std::mt19937_64                        rng(7);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  const Vec3                             a(0, 0, 0), b(1, 0.1, 0), c(0.3, 0.9, 0.2);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3            x(u(rng), u(rng), u(rng));
+    const TriangleClosest q = ClosestPointOnTriangle(x, a, b, c);
+    // brute force: the best of a fine barycentric grid, refined around it
+    double best = 1e300;
+    const int n = 400;
+    for (int k = 0; k <= n; ++k)
+      for (int l = 0; l <= n - k; ++l) {
+        const Vec3 p = a + ((double)k / n) * (b - a) + ((double)l / n) * (c - a);
+        best         = std::fmin(best, norm(x - p));
+      }
+    EXPECT_LE(norm(x - q.p), best + 1e-12) << "point " << i;
+    EXPECT_GE(norm(x - q.p), best - 5e-3) << "point " << i; // the grid's spacing bounds its error
+  }
+  // the features of a few points
+  EXPECT_EQ(ClosestPointOnTriangle(Vec3(-1, -1, 0), a, b, c).feature, TriFeature::VertexA);
+  EXPECT_EQ(ClosestPointOnTriangle(Vec3(0.5, -1, 0.3), a, b, c).feature, TriFeature::EdgeAB);
+  EXPECT_EQ(ClosestPointOnTriangle(Vec3(0.4, 0.3, 1), a, b, c).feature, TriFeature::Face);
+  // a degenerate triangle: the closest point of its longest edge
+  const TriangleClosest d = ClosestPointOnTriangle(Vec3(0.5, 1, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0, 0));
+  EXPECT_NEAR(norm(d.p - Vec3(0.5, 0, 0)), 0, 1e-15);
+}
+
+TEST(SphereSurface, OneContactPerFeatureOnACube) {
+  std::vector<Vec3>               nodes;
+  std::vector<std::array<int, 3>> tris;
+  Cube(nodes, tris);
+  const double r = 0.2, delta = 0.01;
+  // over the top face: on its diagonal (the edge of its two triangles), near it, and near
+  // a cube edge (the sphere also overlaps that edge)
+  for (const Vec3 &x : {Vec3(0.5, 0.5, 1 + r - delta), Vec3(0.3, 0.31, 1 + r - delta), Vec3(0.95, 0.5, 1 + r - delta)}) {
+    const auto cs = SphereSurfaceContacts(x, r, nodes, tris, All(tris.size()));
+    ASSERT_EQ(cs.size(), 1u) << "at " << x.x << " " << x.y;
+    EXPECT_NEAR(cs[0].overlap, delta, 1e-14);
+    EXPECT_NEAR(norm(cs[0].n - Vec3(0, 0, 1)), 0, 1e-14);
+    if (x.x != x.y) EXPECT_EQ(cs[0].feature, TriFeature::Face) << "at " << x.x << " " << x.y << " tri " << cs[0].tri; // on the diagonal: the edge both triangles share, once
+  }
+}
+
+TEST(SphereSurface, RollingOverAnEdgeAndAroundAVertexIsContinuous) {
+  std::vector<Vec3>               nodes;
+  std::vector<std::array<int, 3>> tris;
+  Cube(nodes, tris);
+  const double r = 0.2, delta = 0.01, rho = r - delta; // the centre keeps its distance rho from the cube
+  GranularPair p;
+  p.law = GranularLaw::Hertz, p.estar = 1e9, p.gstar = 4e8, p.alpha = 0;
+  // the path: over the top face (y = 0.5) towards the edge x = 1, z = 1, around it on a
+  // quarter circle, then down the side face x = 1
+  Vec3   prev_f;
+  bool   first = true;
+  double worst_jump = 0;
+  const int n = 400;
+  for (int i = 0; i <= n; ++i) {
+    const double s = 3.0 * i / n; // 0..1 top, 1..2 around the edge, 2..3 down the side
+    Vec3         x;
+    if (s < 1) x = Vec3(0.7 + 0.3 * s, 0.5, 1 + rho);
+    else if (s < 2) {
+      const double th = 0.5 * M_PI * (s - 1);
+      x               = Vec3(1 + rho * std::sin(th), 0.5, 1 + rho * std::cos(th));
+    } else x = Vec3(1 + rho, 0.5, 1 - 0.3 * (s - 2));
+    const auto cs = SphereSurfaceContacts(x, r, nodes, tris, All(tris.size()));
+    ASSERT_EQ(cs.size(), 1u) << "s = " << s;
+    EXPECT_NEAR(cs[0].overlap, delta, 1e-12) << "s = " << s;
+    Vec3                 shear(0, 0, 0);
+    const GranularResult f = GranularForce(p, {cs[0].n, cs[0].overlap, Vec3(0, 0, 0), Vec3(0, 0, 0), r, 1.0}, 1e-6, shear);
+    if (!first) worst_jump = std::fmax(worst_jump, norm(f.fn - prev_f) / norm(f.fn));
+    prev_f = f.fn, first = false;
+  }
+  // the normal turns by at most (pi/2)/(n/3) per step over the edge: the force's change is that angle
+  EXPECT_LT(worst_jump, 1.01 * 0.5 * M_PI / (n / 3.0));
+  // around the vertex (1, 1, 1): every direction of its octant at distance rho gives one contact
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) {
+      const double th = 0.5 * M_PI * i / 20, ph = 0.5 * M_PI * j / 20;
+      const Vec3   dir(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      const auto   cs = SphereSurfaceContacts(Vec3(1, 1, 1) + rho * dir, r, nodes, tris, All(tris.size()));
+      ASSERT_EQ(cs.size(), 1u) << "direction " << i << " " << j;
+      EXPECT_NEAR(cs[0].overlap, delta, 1e-12);
+      EXPECT_NEAR(norm(cs[0].n - dir), 0, 1e-12);
+    }
+}
+
+TEST(SphereSurface, ConcaveCornerTouchesBothFaces) {
+  // an L: the floor z = 0 (x in [0, 1]) and a wall x = 0 (z in [0, 1]), y in [0, 1]
+  const std::vector<Vec3>               nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {0, 1, 1}};
+  const std::vector<std::array<int, 3>> tris  = {{0, 1, 2}, {0, 2, 3}, {0, 3, 5}, {0, 5, 4}};
+  const double                          r = 0.2;
+  const auto                            cs = SphereSurfaceContacts(Vec3(0.19, 0.5, 0.18), r, nodes, tris, All(tris.size()));
+  ASSERT_EQ(cs.size(), 2u);
+  double overlaps[2] = {cs[0].overlap, cs[1].overlap};
+  std::sort(overlaps, overlaps + 2);
+  EXPECT_NEAR(overlaps[0], 0.01, 1e-14);
+  EXPECT_NEAR(overlaps[1], 0.02, 1e-14);
+  // apart: nothing; a candidate list restricts the triangles
+  EXPECT_TRUE(SphereSurfaceContacts(Vec3(0.5, 0.5, 0.5), r, nodes, tris, All(tris.size())).empty());
+  EXPECT_EQ(SphereSurfaceContacts(Vec3(0.19, 0.5, 0.18), r, nodes, tris, {0, 1}).size(), 1u);
+}
