@@ -88,6 +88,8 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h) {
                      Num(2.0 / 3.0 * L.c * (2.0 * h * L.c / L.penalty)) + " J/m^2 exceeds G_II = " + Num(L.GII) + "; raise the penalty above " +
                      Num(4.0 / 3.0 * h * L.c * L.c / L.GII) + " Pa");
   L.dn_crit = Critical(L.dn_peak, L.ft, L.GI);
+  L.inv_dn_peak       = 1.0 / L.dn_peak;
+  L.slip_per_strength = 2.0 * h / L.penalty;
   const double sp0 = 2.0 * h * L.c / L.penalty;
   L.s_span    = Critical(sp0, L.c, L.GII) - sp0;
   return L;
@@ -150,7 +152,8 @@ struct JointPoints {
     n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     const double twiceA = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(twiceA > 0)) return false;
-    for (double &c : n) c /= twiceA;
+    const double inv = 1.0 / twiceA;
+    for (double &c : n) c *= inv;
     w = twiceA / 6.0;
     for (int q = 0; q < 3; ++q) {
       // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
@@ -174,12 +177,17 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
     const int     i = q, j = (q + 1) % 3;
     JointTraction t;
     if (state[q].D == 0 && P.dn[q] <= L.dn_peak && !state[q].broken) {
-      // the common case, an undamaged point below the tensile peak: the same expressions
-      // as JointTractionAt (bitwise the same tractions), without the damage update
-      const double dn = P.dn[q], sigma0 = NormalUndamaged(L, dn), fs = ShearStrength(L, sigma0), sp = 2.0 * L.h * fs / L.penalty;
+      // the common case, an undamaged point below the tensile peak: the law of
+      // JointTractionAt without the damage update, with the law's reciprocals (the same
+      // tractions to round-off)
+      const double dn = P.dn[q], x = dn * L.inv_dn_peak;
+      const double sigma0 = dn <= 0 ? 2.0 * L.ft * x : L.ft * x * (2.0 - x);
+      const double fs     = dn <= 0 ? L.c - sigma0 * L.tan_phi : L.c; // > 0: compression only adds
+      const double sp     = fs * L.slip_per_strength;
       if (P.s[q] <= sp) {
-        t.sigma = dn <= 0 ? sigma0 : 1.0 * sigma0;
-        t.tau   = sp > 0 ? 1.0 * fs * Hardening(P.s[q] / sp) : 0.0;
+        const double y = P.s[q] / sp;
+        t.sigma        = sigma0;
+        t.tau          = fs * y * (2.0 - y);
       } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
     } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
     Dmax = std::max(Dmax, t.D);

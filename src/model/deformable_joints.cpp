@@ -19,7 +19,7 @@ using namespace fdem::model::deformable;
 using fdem::kernels::JointLaw;
 using fdem::kernels::norm;
 
-static_assert(sizeof(JointLaw) == 10 * sizeof(double), "JointLaw is sent as 10 doubles");
+static_assert(sizeof(JointLaw) == 12 * sizeof(double), "JointLaw is sent as 12 doubles");
 
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
@@ -113,8 +113,8 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
   }
   if (nj == 0) PetscFunctionReturn(0);
-  // rank 0: each joint's record (8 ints, 10 reals) to the rank of its tetrahedron a
-  constexpr int          NI = 8, NR = 10;
+  // rank 0: each joint's record (8 ints, 12 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 8, NR = 12;
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
   std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);

@@ -40,6 +40,8 @@ struct JointLaw {
   double ft = 0, c = 0, tan_phi = 0, GI = 0, GII = 0, penalty = 0, h = 0;
   double dn_peak = 0, dn_crit = 0; // opening at the peak and at rupture, m
   double s_span = 0;               // s_crit - s_peak, the softening span of the slip (pure shear), m
+  double inv_dn_peak = 0;          // 1 / dn_peak, 1/m
+  double slip_per_strength = 0;    // 2 h / p: the slip at the shear peak is f_s times this, m/Pa
 };
 
 // Checks the material and the element size and returns the law. Throws
