@@ -3,6 +3,7 @@
 #include "../util/output.hpp"
 #include "deformable_object.hpp"
 
+#include <petscsf.h>
 #include <petscviewerhdf5.h>
 
 #include <cmath>

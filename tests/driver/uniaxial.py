@@ -21,7 +21,7 @@ except ImportError:  # a python3 without them (pyenv): the system's has them (sc
     raise
 
 # the scene's figures (uniaxial_prism.yaml)
-A, H, V, C, PHI, GAP = 0.05 * 0.05, 0.1, 0.02, 1.0e6, math.radians(30), 5e-5
+A, H, V, C, PHI, GAP = 0.05 * 0.05, 0.1, 0.05, 1.0e6, math.radians(30), 5e-5
 MC = 2 * C * math.cos(PHI) / (1 - math.sin(PHI))
 S45 = 2 * C / (1 - math.tan(PHI))
 
@@ -49,8 +49,8 @@ tm = 0.5 * (t[1:] + t[:-1])
 S = np.diff(W) / np.diff(t) / (2 * V) / A        # mean stress over each balance interval
 strain = (2 * V * tm - 2 * GAP) / H
 ip = int(np.argmax(S))
-upto = t <= t[ip + 1]
-ke_ratio = max(ke[upto][1:] / np.maximum(W[upto][1:], 1e-300))
+upto = (t <= t[ip + 1]) & (W > 1e-3 * W[ip + 1])
+ke_ratio = max((ke[upto] - ke[0]) / W[upto])  # less the platens' constant kinetic energy
 failures = []
 print(f"peak stress {S[ip] / 1e6:.4g} MPa at t = {tm[ip]:.4g} s (strain {strain[ip]:.3g}): {S[ip] / MC:.3f} of Mohr-Coulomb {MC / 1e6:.4g} MPa, {S[ip] / S45:.3f} of the 45-degree faces' {S45 / 1e6:.4g} MPa")
 print(f"kinetic / work up to the peak: at most {ke_ratio:.2e}; stress at the end {S[-1] / 1e6:.3g} MPa")
