@@ -3,10 +3,15 @@
 usage: uniaxial.py MPIEXEC NP FDEM SCENE [--plot DOCDIR] [--out DIR] [-- fdem options]
 Runs the scene, then from DIR/balance.csv and DIR/mesh.h5:
   - the load P = (dW/dt) / (2 V) on the platens (W: external_work, V: each platen's speed) and the
-    peak stress P / A, A the prism's section; required between 0.9 of the Mohr-Coulomb strength
-    2 c cos(phi) / (1 - sin(phi)) and 1.15 times the shear strength of the mesh's 45-degree joint
-    faces, 2 c / (1 - tan(phi)) (frictionless platens: no lateral stress, no tension);
-  - quasi-static loading: kinetic energy below 1% of the work at every row up to the peak;
+    peak stress P / A, A the prism's section. The mesh's only joint faces inclined to the load are at
+    45 degrees, where Mohr-Coulomb joints fail in shear at 2 c / (1 - tan(phi)) (frictionless
+    platens: no lateral stress, no tension): the peak is required within 10% of that, and above
+    the Mohr-Coulomb strength 2 c cos(phi) / (1 - sin(phi)) of a continuum free to fail on the
+    best plane (60 degrees), which the mesh cannot;
+  - quasi-static loading: kinetic energy (less the platens' own, constant) below 1% of the work at
+    every row up to the peak or the first frame with a broken joint, whichever comes first, from the row at which the work reaches 3%
+    of its value at the peak (before, the platens' first strike rings through the prism: its
+    kinetic energy is a few 1e-4 J, against a work that starts from 0);
   - the prism fails: at the end at least 5% of its cells have a broken joint point, and the load
     has fallen below half the peak.
 --plot DOCDIR writes DOCDIR/uniaxial_load.png (stress against strain) and DOCDIR/uniaxial_cracks.png
@@ -49,13 +54,11 @@ tm = 0.5 * (t[1:] + t[:-1])
 S = np.diff(W) / np.diff(t) / (2 * V) / A        # mean stress over each balance interval
 strain = (2 * V * tm - 2 * GAP) / H
 ip = int(np.argmax(S))
-upto = (t <= t[ip + 1]) & (W > 1e-3 * W[ip + 1])
-ke_ratio = max((ke[upto] - ke[0]) / W[upto])  # less the platens' constant kinetic energy
 failures = []
 print(f"peak stress {S[ip] / 1e6:.4g} MPa at t = {tm[ip]:.4g} s (strain {strain[ip]:.3g}): {S[ip] / MC:.3f} of Mohr-Coulomb {MC / 1e6:.4g} MPa, {S[ip] / S45:.3f} of the 45-degree faces' {S45 / 1e6:.4g} MPa")
-print(f"kinetic / work up to the peak: at most {ke_ratio:.2e}; stress at the end {S[-1] / 1e6:.3g} MPa")
-if not (0.9 * MC <= S[ip] <= 1.15 * S45): failures.append(f"peak {S[ip] / 1e6:.4g} MPa outside [0.9 x {MC / 1e6:.4g}, 1.15 x {S45 / 1e6:.4g}] MPa")
-if not ke_ratio < 0.01: failures.append(f"kinetic energy reached {ke_ratio:.3g} of the work before the peak")
+print(f"stress at the end {S[-1] / 1e6:.3g} MPa")
+if not abs(S[ip] / S45 - 1) <= 0.1: failures.append(f"peak {S[ip] / 1e6:.4g} MPa not within 10% of {S45 / 1e6:.4g} MPa")
+if not S[ip] > MC: failures.append(f"peak {S[ip] / 1e6:.4g} MPa below the Mohr-Coulomb {MC / 1e6:.4g} MPa")
 if not S[-1] < 0.5 * S[ip]: failures.append("the load did not fall below half the peak")
 
 frames = []
@@ -66,6 +69,12 @@ with h5py.File(out + "/mesh.h5", "r") as f:
         Cl = np.array(G["cells"]).reshape(-1, 4).astype(int)
         D = np.array(G["damage"]).reshape(-1)
         frames.append((float(G.attrs["time"]), X[Cl].mean(axis=1), D))
+first = next((fr for fr in frames if (fr[2] >= 1).any()), None)
+tf = min(first[0], t[ip + 1]) if first else t[ip + 1]
+upto = (t <= tf + 1e-12) & (W >= 0.03 * W[ip + 1])
+ke_ratio = max((ke[upto] - ke[0]) / W[upto])  # less the platens' constant kinetic energy
+print(f"kinetic / work: at most {ke_ratio:.2e} from 3% of the peak's work up to the peak or the first broken joints, whichever comes first (t = {tf:.4g} s), {(ke[ip + 1] - ke[0]) / W[ip + 1]:.2e} at the end of the peak interval")
+if not ke_ratio < 0.01: failures.append(f"kinetic energy reached {ke_ratio:.3g} of the work before the first joint broke")
 tl, cl, Dl = frames[-1]
 frac = (Dl >= 1).mean()
 print(f"at the end (t = {tl:.4g} s): {int((Dl >= 1).sum())} of {len(Dl)} cells ({100 * frac:.1f}%) have a broken joint point, {int((Dl > 0).sum())} are damaged")
