@@ -96,7 +96,7 @@ if "--plot" in opts:
     ax.legend()
     fig.tight_layout()
     fig.savefig(d + "/brazilian_load.png", dpi=90)
-    fig, axs = plt.subplots(1, 2, figsize=(8, 4.2))
+    fig, axs = plt.subplots(1, 2, figsize=(9, 4.2), layout="constrained")
     th = np.linspace(0, 2 * math.pi, 200)
     for ax, fr, name in zip(axs, [first, frames[-1]], ["first broken", "end of run"]):
         tf, cen, D = fr

@@ -96,7 +96,7 @@ if "--plot" in opts:
     ax.legend()
     fig.tight_layout()
     fig.savefig(d + "/uniaxial_load.png", dpi=90)
-    fig, axs = plt.subplots(1, 2, figsize=(6, 5))
+    fig, axs = plt.subplots(1, 2, figsize=(6, 5), layout="constrained")
     for ax, k, name in zip(axs, [0, 1], ["x", "y"]):
         m = Dl > 0
         sc = ax.scatter(cl[m, k], cl[m, 2], c=Dl[m], s=8, cmap="viridis_r", vmin=0, vmax=1)
