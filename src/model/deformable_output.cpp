@@ -3,6 +3,7 @@
 #include "../util/output.hpp"
 #include "deformable_object.hpp"
 
+#include <petscsf.h>
 #include <petscviewerhdf5.h>
 
 #include <cmath>
@@ -10,11 +11,35 @@
 
 using namespace fdem::model::deformable;
 
+// The largest damage of each local cell's joints (0 for a cell without joints; a broken
+// point counts 1). Each joint's largest point damage marks the nodes of its triangle a
+// (local) and, through the joint SF (max instead of the forces' sum), those of triangle b
+// on the rank of tetrahedron b. A node of a fracturable body belongs to one tetrahedron, so
+// a cell's damage is the largest over its four nodes. Collective when the mesh has joints.
+static PetscErrorCode CellDamage(FDEMDeformable d, std::vector<PetscReal> &cd) {
+  PetscFunctionBegin;
+  const size_t nc = d->ed.size();
+  cd.assign(nc, 0.0);
+  if (d->njoints_global == 0) PetscFunctionReturn(0);
+  std::vector<PetscReal> node(3 * d->nlocal, 0.0), leaf(9 * d->jstate.size());
+  for (size_t j = 0; j < d->jstate.size(); ++j) {
+    PetscReal D = 0;
+    for (const auto &p : d->jstate[j]) D = std::fmax(D, p.broken ? 1.0 : p.D);
+    for (int k = 0; k < 9; ++k) leaf[9 * j + k] = D;
+    for (int a = 0; a < 3; ++a) node[3 * d->jnode_a[j][a]] = std::fmax(node[3 * d->jnode_a[j][a]], D);
+  }
+  PetscCall(PetscSFReduceBegin(d->jsf, MPIU_REAL, leaf.data(), node.data(), MPI_MAX));
+  PetscCall(PetscSFReduceEnd(d->jsf, MPIU_REAL, leaf.data(), node.data(), MPI_MAX));
+  for (size_t e = 0; e < nc; ++e)
+    for (int a = 0; a < 4; ++a) cd[e] = std::fmax(cd[e], node[3 * d->ed.elems[e].n[a]]);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base, PetscInt step, PetscReal t) {
   StateView              sv;
   const PetscScalar     *Xa, *sa;
   Vec                    S;
-  std::vector<PetscReal> xv, dv, vv, st, vm;
+  std::vector<PetscReal> xv, dv, vv, st, vm, dmg;
   std::vector<PetscInt>  cells, body, rank, nid;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableWriteHDF5"));
@@ -22,6 +47,7 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
   PetscCheck(step >= 0, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMDeformableWriteHDF5: step %" PetscInt_FMT " must be non-negative", step);
   for (const auto &o : d->outputs) PetscCheck(o.step != step, d->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMDeformableWriteHDF5: step %" PetscInt_FMT " was already written to %s.h5", step, base);
   PetscCall(FDEMDeformableComputeCellStress(d, U, &S));
+  PetscCall(CellDamage(d, dmg));
   PetscCall(sv.Get(d, U));
   PetscCall(VecGetArrayRead(d->X, &Xa));
   const PetscInt n = 3 * d->nown;
@@ -60,6 +86,7 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
   PetscCall(fdem::output::WriteInt(d->comm, viewer, "cells", cells, 4));
   PetscCall(fdem::output::WriteReal(d->comm, viewer, "stress", st, 6));
   PetscCall(fdem::output::WriteReal(d->comm, viewer, "von_mises", vm, 1));
+  PetscCall(fdem::output::WriteReal(d->comm, viewer, "damage", dmg, 1));
   PetscCall(fdem::output::WriteInt(d->comm, viewer, "body", body, 1));
   PetscCall(fdem::output::WriteInt(d->comm, viewer, "rank", rank, 1));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
@@ -76,6 +103,7 @@ PetscErrorCode FDEMDeformableWriteHDF5(FDEMDeformable d, Vec U, const char *base
                                        {"node_id", "Scalar", "Node", 1, false},
                                        {"stress", "Tensor6", "Cell", 6, true},
                                        {"von_mises", "Scalar", "Cell", 1, true},
+                                       {"damage", "Scalar", "Cell", 1, true},
                                        {"body", "Scalar", "Cell", 1, false},
                                        {"rank", "Scalar", "Cell", 1, false}}));
   }

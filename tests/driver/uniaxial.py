@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Uniaxial compression of a fracturable prism (tests/driver/uniaxial_prism.yaml, doc/fracture_validation.md).
+usage: uniaxial.py MPIEXEC NP FDEM SCENE [--plot DOCDIR] [--out DIR] [-- fdem options]
+Runs the scene, then from DIR/balance.csv and DIR/mesh.h5:
+  - the load P = (dW/dt) / (2 V) on the platens (W: external_work, V: each platen's speed) and the
+    peak stress P / A, A the prism's section. The mesh's only joint faces inclined to the load are at
+    45 degrees, where Mohr-Coulomb joints fail in shear at 2 c / (1 - tan(phi)) (frictionless
+    platens: no lateral stress, no tension): the peak is required within 10% of that, and above
+    the Mohr-Coulomb strength 2 c cos(phi) / (1 - sin(phi)) of a continuum free to fail on the
+    best plane (60 degrees), which the mesh cannot;
+  - quasi-static loading: kinetic energy (less the platens' own, constant) below 1% of the work at
+    every row up to the peak or the first frame with a broken joint, whichever comes first, from the row at which the work reaches 3%
+    of its value at the peak (before, the platens' first strike rings through the prism: its
+    kinetic energy is a few 1e-4 J, against a work that starts from 0);
+  - the prism fails: at the end at least 5% of its cells have a broken joint point, and the load
+    has fallen below half the peak.
+--plot DOCDIR writes DOCDIR/uniaxial_load.png (stress against strain) and DOCDIR/uniaxial_cracks.png
+(damaged cells, two side views)."""
+import csv, math, os, subprocess, sys, tempfile
+
+try:
+    import numpy as np, h5py
+except ImportError:  # a python3 without them (pyenv): the system's has them (scripts/install-deps.sh)
+    if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    raise
+
+# the scene's figures (uniaxial_prism.yaml)
+A, H, V, C, PHI, GAP = 0.05 * 0.05, 0.1, 0.05, 1.0e6, math.radians(30), 5e-5
+MC = 2 * C * math.cos(PHI) / (1 - math.sin(PHI))
+S45 = 2 * C / (1 - math.tan(PHI))
+
+args = sys.argv[1:]
+mpiexec, nproc, fdem, scene = args[:4]
+rest, extra = args[4:], []
+if "--" in rest:
+    i = rest.index("--")
+    rest, extra = rest[:i], rest[i + 1:]
+opts = dict(zip(rest[0::2], rest[1::2]))
+out = opts.get("--out") or tempfile.mkdtemp(prefix="fdem_uniaxial_")
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+cmd = [mpiexec, "--oversubscribe", "-n", nproc, fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + extra
+print("$ " + " ".join(cmd), flush=True)
+r = subprocess.run(cmd, capture_output=True, text=True, timeout=1500, env=env)
+print(r.stdout + r.stderr)
+if r.returncode != 0:
+    sys.exit(f"FAIL: fdem exited with {r.returncode}")
+
+rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(open(out + "/balance.csv"))]
+t = np.array([q["time"] for q in rows])
+W = np.array([q["external_work"] for q in rows])
+ke = np.array([q["kinetic"] for q in rows])
+tm = 0.5 * (t[1:] + t[:-1])
+S = np.diff(W) / np.diff(t) / (2 * V) / A        # mean stress over each balance interval
+strain = (2 * V * tm - 2 * GAP) / H
+ip = int(np.argmax(S))
+failures = []
+print(f"peak stress {S[ip] / 1e6:.4g} MPa at t = {tm[ip]:.4g} s (strain {strain[ip]:.3g}): {S[ip] / MC:.3f} of Mohr-Coulomb {MC / 1e6:.4g} MPa, {S[ip] / S45:.3f} of the 45-degree faces' {S45 / 1e6:.4g} MPa")
+print(f"stress at the end {S[-1] / 1e6:.3g} MPa")
+if not abs(S[ip] / S45 - 1) <= 0.1: failures.append(f"peak {S[ip] / 1e6:.4g} MPa not within 10% of {S45 / 1e6:.4g} MPa")
+if not S[ip] > MC: failures.append(f"peak {S[ip] / 1e6:.4g} MPa below the Mohr-Coulomb {MC / 1e6:.4g} MPa")
+if not S[-1] < 0.5 * S[ip]: failures.append("the load did not fall below half the peak")
+
+frames = []
+with h5py.File(out + "/mesh.h5", "r") as f:
+    for g in sorted(k for k in f.keys() if k.startswith("step_")):
+        G = f[g]
+        X = np.array(G["vertices"]).reshape(-1, 3)
+        Cl = np.array(G["cells"]).reshape(-1, 4).astype(int)
+        D = np.array(G["damage"]).reshape(-1)
+        frames.append((float(G.attrs["time"]), X[Cl].mean(axis=1), D))
+first = next((fr for fr in frames if (fr[2] >= 1).any()), None)
+tf = min(first[0], t[ip + 1]) if first else t[ip + 1]
+upto = (t <= tf + 1e-12) & (W >= 0.03 * W[ip + 1])
+ke_ratio = max((ke[upto] - ke[0]) / W[upto])  # less the platens' constant kinetic energy
+print(f"kinetic / work: at most {ke_ratio:.2e} from 3% of the peak's work up to the peak or the first broken joints, whichever comes first (t = {tf:.4g} s), {(ke[ip + 1] - ke[0]) / W[ip + 1]:.2e} at the end of the peak interval")
+if not ke_ratio < 0.01: failures.append(f"kinetic energy reached {ke_ratio:.3g} of the work before the first joint broke")
+tl, cl, Dl = frames[-1]
+frac = (Dl >= 1).mean()
+print(f"at the end (t = {tl:.4g} s): {int((Dl >= 1).sum())} of {len(Dl)} cells ({100 * frac:.1f}%) have a broken joint point, {int((Dl > 0).sum())} are damaged")
+if frac < 0.05: failures.append(f"only {100 * frac:.1f}% of the cells have a broken joint point")
+
+if "--plot" in opts:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    d = opts["--plot"]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(strain * 1e3, S / 1e6, "-", lw=1)
+    ax.axhline(MC / 1e6, color="k", ls="--", lw=0.8, label=f"Mohr-Coulomb {MC / 1e6:.2f} MPa")
+    ax.axhline(S45 / 1e6, color="C2", ls=":", lw=1, label=f"shear on 45-degree faces {S45 / 1e6:.2f} MPa")
+    ax.plot([strain[ip] * 1e3], [S[ip] / 1e6], "o", color="C3", label=f"peak {S[ip] / 1e6:.2f} MPa")
+    ax.set_xlabel("axial strain (1e-3)")
+    ax.set_ylabel("axial stress (MPa)")
+    ax.set_title("Uniaxial compression: stress against strain")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(d + "/uniaxial_load.png", dpi=90)
+    fig, axs = plt.subplots(1, 2, figsize=(6, 5), layout="constrained")
+    for ax, k, name in zip(axs, [0, 1], ["x", "y"]):
+        m = Dl > 0
+        sc = ax.scatter(cl[m, k], cl[m, 2], c=Dl[m], s=8, cmap="viridis_r", vmin=0, vmax=1)
+        b = Dl >= 1
+        ax.scatter(cl[b, k], cl[b, 2], s=14, facecolors="none", edgecolors="C3", lw=0.8)
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"{name} (m)")
+        ax.set_ylabel("z (m, load axis)")
+    fig.suptitle(f"damaged cells at t = {tl * 1e3:.1f} ms (red ring: a broken joint point)")
+    fig.colorbar(sc, ax=axs, shrink=0.8, label="cell damage")
+    fig.savefig(d + "/uniaxial_cracks.png", dpi=90)
+    print(f"wrote {d}/uniaxial_load.png, {d}/uniaxial_cracks.png")
+
+if failures:
+    sys.exit("FAIL: " + "; ".join(failures))
+print("OK")
