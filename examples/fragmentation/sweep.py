@@ -89,7 +89,7 @@ def svg_chart(results, path):
     """Two panels: fragment count (log scale) and largest fragment's mass fraction against speed
     (log scale), plus the cumulative mass distribution of the fragments per speed."""
     W, H = 960, 330
-    panels = [(60, "fragments"), (380, "largest fragment / ball mass"), (700, "mass fraction in fragments <= m")]
+    panels = [(60, "fragments"), (380, "largest fragment / ball mass"), (700, "mass fraction in fragments &lt;= m")]
     pw, ph, top = 230, 220, 40
     speeds = [r["speed"] for r in results]
     lo, hi = math.log10(min(speeds)) - 0.1, math.log10(max(speeds)) + 0.1
