@@ -89,6 +89,18 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
     const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
     if (std::binary_search(broken_.begin(), broken_.end(), k)) return true; // the two sides of a broken joint
   }
+  if (fractured_ && fracturable_[a.body] && nbroken_ > 0) {
+    // Once a joint has broken, only a face glued by an intact joint (three shared node keys)
+    // keeps two tetrahedra of a fracturable body apart; neighbours by an edge or a vertex are
+    // paired (touching there, they barely overlap), so that two tetrahedra on the two sides of a
+    // crack that is still glued at a node or an edge cannot pass through each other unseen.
+    // Before any joint breaks the usual rule holds, and an intact body feels no contact force.
+    int shared = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        if (a.node[i] >= 0 && a.node[i] == b.node[j]) ++shared;
+    return shared < 3;
+  }
   return Adapter::SelfPair(a, b);
 }
 

@@ -172,10 +172,10 @@ struct JointPoints {
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0; // a collapsed mid-surface carries nothing
-  double Dmax = 0, diss = 0;
+  double        Dmax = 0, diss = 0;
+  JointTraction t3[3];
   for (int q = 0; q < 3; ++q) {
-    const int     i = q, j = (q + 1) % 3;
-    JointTraction t;
+    JointTraction &t = t3[q];
     if (state[q].D == 0 && P.dn[q] <= L.dn_peak && !state[q].broken) {
       // the common case, an undamaged point below the tensile peak: the law of
       // JointTractionAt without the damage update, with the law's reciprocals (the same
@@ -186,13 +186,23 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
       const double sp     = fs * L.slip_per_strength;
       if (P.s[q] <= sp) {
         const double y = P.s[q] / sp;
+        t              = JointTraction();
         t.sigma        = sigma0;
         t.tau          = fs * y * (2.0 - y);
       } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
     } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
     Dmax = std::max(Dmax, t.D);
     diss += P.w * t.dissipated;
-    if (state[q].broken) continue;
+  }
+  const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
+  for (int q = 0; q < 3; ++q) {
+    const int     i = q, j = (q + 1) % 3;
+    JointTraction t = t3[q];
+    if (all_broken) break; // the faces are contact surfaces now
+    // A broken point of a joint that still holds (its other points intact) is not a contact
+    // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
+    // other and meet the contact engine deeply overlapped when the joint breaks through.
+    if (state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0;
     double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
     for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {
@@ -208,9 +218,11 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
 double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0;
+  if (state[0].broken && state[1].broken && state[2].broken) return 0;
   double e = 0;
   for (int q = 0; q < 3; ++q)
     if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
+    else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak; // the compression penalty it keeps
   return e;
 }
 
