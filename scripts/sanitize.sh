@@ -41,7 +41,11 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # Long under a sanitizer (each > 10 min on 2 cores); their code paths run in
 # the smaller tests of the same label.
-exclude='^(test_contact_rigid|test_contact_stack|test_deformable_wave|test_deformable_cantilever|driver_restart|driver_scene_pebbles_in_a_box|driver_scene_disc_platens|driver_scene_platen|driver_default_scene)_'
+# The fracture validation runs (tension bar, Brazilian disc, compression, fragmentation:
+# 40-175 s each in the normal build, 6-7x that under the sanitizers) likewise: the joints,
+# broken-joint contact, fragments and checkpoints run in test_fracture_bar,
+# test_fracture_contact, the fracture driver scenes and driver_fracture_fragments.
+exclude='^(test_contact_rigid|test_contact_stack|test_deformable_wave|test_deformable_cantilever|driver_restart|driver_scene_pebbles_in_a_box|driver_scene_disc_platens|driver_scene_platen|driver_default_scene|test_fracture_tension|driver_fracture_uniaxial|driver_fracture_brazilian)_|^driver_scene_fragmentation$'
 cd "$build"
 status=0
 start=$(date +%s)
