@@ -194,6 +194,24 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscFunctionReturn(0);
 }
 
+// Brings the coordinates of every local joint's triangle b from its rank (d->jxb), from
+// the local positions xl; collective.
+static PetscErrorCode BringTrianglesB(FDEMDeformable d, const PetscScalar *xl) {
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+// The two triangles of local joint j: a from the local positions, b from d->jxb.
+static inline void JointTriangles(FDEMDeformable d, const PetscScalar *xl, std::size_t j, double xa[3][3], double xb[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
+      xb[i][k] = d->jxb[9 * j + 3 * i + k];
+    }
+}
+
 PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
@@ -212,16 +230,11 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
                             "WARNING fdem joints: the joints' frequency omega_j = %g (estimated from the joint penalty and the nodal masses; see doc/fracture.md) makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g or the joint penalty\n",
                             (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
   }
-  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(BringTrianglesB(d, xl));
   const std::size_t nj = d->jnode_a.size();
   for (std::size_t j = 0; j < nj; ++j) {
     double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) {
-        xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
-        xb[i][k] = d->jxb[9 * j + 3 * i + k];
-      }
+    JointTriangles(d, xl, j, xa, xb);
     fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdiss[j]);
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) {
@@ -245,15 +258,10 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
     PetscCall(LocalPositions(d, sv.xa, nullptr));
     PetscCall(sv.Restore());
     PetscCall(VecGetArrayRead(d->xloc, &xl));
-    PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+    PetscCall(BringTrianglesB(d, xl));
     for (std::size_t j = 0; j < d->jnode_a.size(); ++j) {
       double xa[3][3], xb[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) {
-          xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
-          xb[i][k] = d->jxb[9 * j + 3 * i + k];
-        }
+      JointTriangles(d, xl, j, xa, xb);
       loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
       loc[1] += d->jdiss[j];
     }

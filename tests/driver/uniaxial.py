@@ -16,7 +16,7 @@ Runs the scene, then from DIR/balance.csv and DIR/mesh.h5:
     has fallen below half the peak.
 --plot DOCDIR writes DOCDIR/uniaxial_load.png (stress against strain) and DOCDIR/uniaxial_cracks.png
 (damaged cells, two side views)."""
-import csv, math, os, subprocess, sys, tempfile
+import math, os, sys
 
 try:
     import numpy as np, h5py
@@ -24,34 +24,18 @@ except ImportError:  # a python3 without them (pyenv): the system's has them (sc
     if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     raise
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from platens import PlatenLoad, RunScene  # noqa: E402
 
 # the scene's figures (uniaxial_prism.yaml)
 A, H, V, C, PHI, GAP = 0.05 * 0.05, 0.1, 0.05, 1.0e6, math.radians(30), 5e-5
 MC = 2 * C * math.cos(PHI) / (1 - math.sin(PHI))
 S45 = 2 * C / (1 - math.tan(PHI))
 
-args = sys.argv[1:]
-mpiexec, nproc, fdem, scene = args[:4]
-rest, extra = args[4:], []
-if "--" in rest:
-    i = rest.index("--")
-    rest, extra = rest[:i], rest[i + 1:]
-opts = dict(zip(rest[0::2], rest[1::2]))
-out = opts.get("--out") or tempfile.mkdtemp(prefix="fdem_uniaxial_")
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
-cmd = [mpiexec, "--oversubscribe", "-n", nproc, fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + extra
-print("$ " + " ".join(cmd), flush=True)
-r = subprocess.run(cmd, capture_output=True, text=True, timeout=1500, env=env)
-print(r.stdout + r.stderr)
-if r.returncode != 0:
-    sys.exit(f"FAIL: fdem exited with {r.returncode}")
-
-rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(open(out + "/balance.csv"))]
-t = np.array([q["time"] for q in rows])
-W = np.array([q["external_work"] for q in rows])
+opts, out = RunScene("fdem_uniaxial_")
+rows, t, W, tm, P = PlatenLoad(out, V)  # P: the mean load over each balance interval
 ke = np.array([q["kinetic"] for q in rows])
-tm = 0.5 * (t[1:] + t[:-1])
-S = np.diff(W) / np.diff(t) / (2 * V) / A        # mean stress over each balance interval
+S = P / A                                        # mean stress over each balance interval
 strain = (2 * V * tm - 2 * GAP) / H
 ip = int(np.argmax(S))
 failures = []
