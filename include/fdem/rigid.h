@@ -54,6 +54,27 @@ PETSC_EXTERN PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, Pet
    and its centre of mass sits at x. The mesh is kept as the body's contact skin. */
 PETSC_EXTERN PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt nnodes, const PetscReal nodes[], PetscInt ntets, const PetscInt tets[], PetscReal density, const PetscReal x[3], const PetscReal Q[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
 
+/* Spheres and granular contact (doc/spheres.md). A granular material gives the force law
+   of a sphere's contacts; a contact mixes the materials of its two sides. Values < 0 (and
+   law_set false) are not given: the mix takes them from the other side. */
+typedef enum { FDEM_GRANULAR_HERTZ = 0, FDEM_GRANULAR_HOOKE = 1 } FDEMGranularLaw;
+typedef struct {
+  FDEMGranularLaw law;
+  PetscBool       law_set;
+  PetscReal       young, poisson;               /* Pa, - (Hertz) */
+  PetscReal       kn, kt, gamma_n, gamma_t;     /* N/m, N/m, 1/s, 1/s (Hooke) */
+  PetscReal       restitution, friction, rolling_friction;
+} FDEMGranularMaterial;
+/* Every value "not given". */
+PETSC_EXTERN PetscErrorCode FDEMGranularMaterialInitialize(FDEMGranularMaterial *m);
+/* Adds a granular material (same arguments on every rank); *index for the calls below. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddGranularMaterial(FDEMRigid rb, const char *name, const FDEMGranularMaterial *m, PetscInt *index);
+/* A sphere of the given radius and density (solid: I = 2/5 m r^2) and granular material; call
+   on every rank with the same arguments, as FDEMRigidAddBody. omega: space-frame. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddSphere(FDEMRigid rb, const char *name, PetscReal radius, PetscReal density, PetscInt material, const PetscReal x[3], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
+/* The granular material of body id (a polyhedron that spheres touch). Every rank. */
+PETSC_EXTERN PetscErrorCode FDEMRigidSetBodyMaterial(FDEMRigid rb, PetscInt id, PetscInt material);
+
 /* Fixes body id in place (walls, floors): forces never move it. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id);
 /* Moves body id at the constant velocity v for ever (a platen): forces never change its

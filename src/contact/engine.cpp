@@ -38,6 +38,16 @@ void Box(const Tet4 &T, double half_buffer, double b[6]) {
   }
 }
 
+// The box of a primitive grown by its margin: a tetrahedron's vertices, a sphere's ball.
+void PrimBox(const Primitive &p, const Tet4 &T, double margin, double b[6]) {
+  if (p.shape == kSphere)
+    for (int k = 0; k < 3; ++k) {
+      b[k]     = T[0][k] - p.radius - margin;
+      b[3 + k] = T[0][k] + p.radius + margin;
+    }
+  else Box(T, margin, b);
+}
+
 // The four face planes of a tetrahedron, outward unit normal n and offset d (n.x = d on the
 // face): pl[4 k .. 4 k + 3] = (n, d) of the face opposite vertex k. A zero-area face gives NaN,
 // which no test below passes.
@@ -79,11 +89,20 @@ bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
 
 bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
 
+// A pair with a sphere is computed by the owner of its holder, the sphere that keeps the
+// contact's tangential spring: of two spheres the moving one, else the first (a before b);
+// a sphere and a tetrahedron: the sphere. (Returns true for a.)
+bool HolderIsFirst(const Primitive &a, const Primitive &b) {
+  if (a.shape == kSphere && b.shape == kSphere) return a.fixed == b.fixed ? true : !a.fixed;
+  return a.shape == kSphere;
+}
+
 // Which of two primitives' owners computes their pair (a before b): with one fixed, the owner of
 // the other (a wall needs no pebble as a ghost); otherwise one chosen by a hash of the two keys,
 // so that the pairs shared by two ranks are split evenly between them (the smaller key would give
 // every pair of the first bodies to one rank). Both ranks holding the pair decide alike.
 bool FirstComputes(const Primitive &a, const Primitive &b) {
+  if (a.shape == kSphere || b.shape == kSphere) return HolderIsFirst(a, b);
   if (a.fixed != b.fixed) return !a.fixed;
   std::uint64_t h = (std::uint64_t)a.key * 0x9E3779B97F4A7C15ull + (std::uint64_t)a.kind;
   h ^= ((std::uint64_t)b.key + ((std::uint64_t)b.kind << 48)) * 0xC2B2AE3D27D4EB4Full;
@@ -209,6 +228,12 @@ PetscErrorCode Engine::ListAll() {
   f_.resize(nl_);
   PetscInt np = nl_;
   PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
+  {
+    PetscBool mine = PETSC_FALSE, any;
+    for (const auto &q : prim_) mine = (PetscBool)(mine || q.shape == kSphere);
+    PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
+    spheres_ = any;
+  }
   if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
     PetscReal g;
     PetscInt  gn;
@@ -253,7 +278,7 @@ PetscErrorCode Engine::Search() {
   for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Margins(half, searched_ ? since_search_ : 0, margin.data() + first_[k]));
   for (int i = 0; i < nl; ++i) {
     prim_[i].margin = std::max(margin[i], (double)half);
-    Box(x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
+    PrimBox(prim_[i], x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
   }
   std::vector<double> box(BW * NGROUP * NBOX, INFINITY);
   if (size_ > 1) { // one rank: no one to send to
@@ -283,7 +308,7 @@ PetscErrorCode Engine::Search() {
             if ((double)prim_[i].body != bx[6] || (double)prim_[i].kind != bx[7]) bx[6] = -1;
             if ((double)prim_[i].kind != bx[7]) bx[7] = -1;
             mask |= 1u << prim_[i].kind;
-            moves |= prim_[i].fixed ? 0u : 1u;
+            moves |= prim_[i].fixed && prim_[i].shape != kSphere ? 0u : 1u; // a fixed sphere may compute a pair with a moving body
           }
           bx[8] = mask;
           bx[9] = moves;
@@ -353,8 +378,10 @@ PetscErrorCode Engine::Search() {
   // 3. the candidate pairs among own and ghost primitives: boxes that overlap
   const int N = nl + ng_;
   boxes.resize(6 * (size_t)N);
-  for (int i = nl; i < N; ++i) Box(gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
+  for (int i = nl; i < N; ++i) PrimBox(gprim_[i - nl], gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
   pairs_.clear();
+  ss_.clear();
+  st_.clear();
   {
     PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
       if (nl == 0) return 0;
@@ -375,6 +402,26 @@ PetscErrorCode Engine::Search() {
         if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
         // apart for as long as neither moves more than its margin: not a candidate
         const double gap = A.margin + B.margin;
+        if (A.shape == kSphere || B.shape == kSphere) {
+          if (A.shape == kSphere && B.shape == kSphere) {
+            if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
+          } else {
+            const int s = A.shape == kSphere ? a : b, t = A.shape == kSphere ? b : a;
+            const double *pl = plane(t);
+            bool          out = false;
+            for (int k = 0; k < 4 && !out; ++k) out = pl[4 * k] * X(s)[0][0] + pl[4 * k + 1] * X(s)[0][1] + pl[4 * k + 2] * X(s)[0][2] - pl[4 * k + 3] > P(s).radius + gap;
+            if (out) continue;
+          }
+          if (A.kind == B.kind && A.body == B.body) continue; // a sphere is one primitive
+          if (Before(B, A)) std::swap(a, b);
+          if (a >= nl && b >= nl) continue;
+          if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue;
+          if (P(a).shape == kSphere && P(b).shape == kSphere) {
+            if (!HolderIsFirst(P(a), P(b))) std::swap(a, b);
+            ss_.push_back({a, b});
+          } else st_.push_back(P(a).shape == kSphere ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});
+          continue;
+        }
         if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
           const Adapter *ad = adapters_[A.kind];
@@ -386,15 +433,24 @@ PetscErrorCode Engine::Search() {
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
         pairs_.push_back({a, b});
       }
+      // a sphere's surface candidates grouped by body, in the order of the keys (as on any number of ranks)
+      std::sort(st_.begin(), st_.end(), [&](const std::array<int, 2> &u, const std::array<int, 2> &w) {
+        const Primitive &su = P(u[0]), &sw = P(w[0]), &tu = P(u[1]), &tw = P(w[1]);
+        if (su.kind != sw.kind || su.key != sw.key) return Before(su, sw);
+        if (tu.kind != tw.kind) return tu.kind < tw.kind;
+        if (tu.body != tw.body) return tu.body < tw.body;
+        return tu.key < tw.key;
+      });
       return 0;
     }));
   }
   // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere
   {
     std::vector<char> t(nl, 0);
-    for (const auto &p : pairs_)
-      for (int i : p)
-        if (i < nl) t[i] = 1;
+    for (const auto *list : {&pairs_, &ss_, &st_})
+      for (const auto &p : *list)
+        for (int i : p)
+          if (i < nl) t[i] = 1;
     for (const auto &s : send)
       for (PetscInt i : s) t[i] = 1;
     touch_.assign(adapters_.size(), {});
@@ -407,7 +463,7 @@ PetscErrorCode Engine::Search() {
   searched_     = true;
   since_search_ = 0;
   stats_.searches++;
-  PetscInt loc[2] = {(PetscInt)pairs_.size(), (PetscInt)ng_}, glob[2];
+  PetscInt loc[2] = {(PetscInt)(pairs_.size() + ss_.size() + st_.size()), (PetscInt)ng_}, glob[2];
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, comm_));
   stats_.candidate_pairs = glob[0];
   stats_.ghosts          = glob[1];
@@ -418,7 +474,13 @@ PetscErrorCode Engine::Search() {
 // ------------------------------------------------------------------ evaluation
 PetscErrorCode Engine::Evaluate() {
   PetscFunctionBegin;
-  PetscCall(CheckPenaltySet());
+  for (auto *a : adapters_) { // primitives that appeared (fracture): list them again
+    PetscBool changed;
+    PetscCall(a->Changed(&changed));
+    if (changed) listed_ = false;
+  }
+  if (!listed_) PetscCall(ListAll());
+  if (!spheres_) PetscCall(CheckPenaltySet()); // with spheres: only when two tetrahedra meet
   if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the contact frequency against K_crit
     TSType         type;
     PetscReal      dt;
@@ -430,13 +492,7 @@ PetscErrorCode Engine::Evaluate() {
     PetscCall(FDEMSchemeInfoFind(type, &found, &info));
     if (found && dt > 0) PetscCall(CheckTimeStep(type, dt, &stats_.dt_ratio));
   }
-  for (auto *a : adapters_) { // primitives that appeared (fracture): list them again
-    PetscBool changed;
-    PetscCall(a->Changed(&changed));
-    if (changed) listed_ = false;
-  }
-  if (!listed_) PetscCall(ListAll());
-  with_v_ = par_.Dissipative();
+  with_v_ = par_.Dissipative() || spheres_;
   if (with_v_) v_.resize(nl_);
   // the re-search rule: some vertex moved more than its margin (at least half the buffer) since
   // the last search (all ranks)
@@ -480,6 +536,7 @@ PetscErrorCode Engine::Evaluate() {
       }
       return frames_[i];
     };
+    PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
       if (!BoxesMeet(a, b)) continue;
@@ -509,6 +566,7 @@ PetscErrorCode Engine::Evaluate() {
     }
     return 0;
   }));
+  if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
   PetscCall(PetscSFReduceBegin(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
@@ -552,14 +610,23 @@ PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal
     int    kind;
   } loc{0, -1}, glob;
   PetscFunctionBegin;
-  PetscCall(CheckPenaltySet());
+  if (!listed_) PetscCall(ListAll());
+  if (!spheres_) PetscCall(CheckPenaltySet());
   PetscCheck(dt > 0 && std::isfinite(dt), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: the time step must be positive, got %g", who_.c_str(), (double)dt);
   PetscCall(FDEMSchemeInfoFind(scheme, &found, &info));
   PetscCheck(found, comm_, PETSC_ERR_ARG_UNKNOWN_TYPE, "%s: %s is not an fdem TS type", who_.c_str(), scheme);
   for (size_t k = 0; k < adapters_.size(); ++k) {
     PetscReal a;
-    PetscCall(adapters_[k]->Frequency2(par_.penalty, &a)); // collective
+    PetscCall(adapters_[k]->Frequency2(std::max<PetscReal>(par_.penalty, 0), &a)); // collective
     if (a > loc.val) loc = {a, (int)k};
+  }
+  // a sphere against one like it: kn / m* (Hooke) or the Hertz stiffness at an overlap of 1% of the radius
+  for (int i = 0; i < nl_; ++i) {
+    const Primitive &p = prim_[i];
+    if (p.shape != kSphere || p.fixed || p.mat < 0 || p.mat >= gnmat_ || !(p.mass > 0)) continue;
+    const fdem::kernels::GranularPair &g = gtable_[(size_t)p.mat * gnmat_ + p.mat];
+    const double k = g.law == fdem::kernels::GranularLaw::Hooke ? g.kn : 2 * g.estar * std::sqrt(0.5 * p.radius * 0.01 * p.radius);
+    if (k / (0.5 * p.mass) > loc.val) loc = {k / (0.5 * p.mass), (int)adapters_.size()};
   }
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
   const PetscReal omega = std::sqrt(glob.val);
@@ -569,7 +636,7 @@ PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal
     PetscCall(PetscPrintf(comm_,
                           "WARNING fdem contact: the contact frequency omega_c = %g (%s side; see doc/contact_engine.md) makes omega_c dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
                           "or the penalty\n",
-                          (double)omega, glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no", (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme, (double)(0.5 * info.kcrit / omega)));
+                          (double)omega, glob.kind >= (int)adapters_.size() ? "granular" : glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no", (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme, (double)(0.5 * info.kcrit / omega)));
   PetscFunctionReturn(0);
 }
 } // namespace fdem::contact

@@ -12,8 +12,10 @@
 #pragma once
 #include <fdem/contact.h>
 #include <fdem/kernels/contact.hpp>
+#include <fdem/kernels/granular.hpp>
 #include <petscsf.h>
 #include <petscts.h>
+#include <fdem/rigid.h>
 
 #include <array>
 #include <cstdint>
@@ -24,6 +26,9 @@ namespace fdem::contact {
 using fdem::kernels::Tet4;
 using fdem::kernels::Vec3;
 
+// The shapes of primitives: a tetrahedron (four vertices) or a sphere (a centre and a radius).
+enum : std::int32_t { kTetrahedron = 0, kSphere = 1 };
+
 // The static record of a primitive; a ghost copy carries it to the ranks that need it.
 struct Primitive {
   std::int32_t kind  = 0;  // the adapter's slot in the engine (set by the engine)
@@ -33,11 +38,26 @@ struct Primitive {
   std::int64_t key   = 0;  // unique within the kind; a pair is computed by the owner of the smaller (kind, key)
   PetscInt     node[4] = {-1, -1, -1, -1}; // global node ids (self-contact skips neighbours); -1: none
   double       margin  = 0; // set at each search: how far it may move before the next (>= buffer/2)
+  std::int32_t shape   = kTetrahedron;
+  std::int32_t surface = 15; // tetrahedron: bit o set when its face opposite vertex o lies on the body's surface
+  std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none
+  double       radius  = 0;  // sphere: its radius
+  double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
 };
 
 // The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,
-// then (when damping or friction is on) vertex velocities, one Tet4 each.
+// then (when damping or friction is on) vertex velocities, one Tet4 each. A sphere uses
+// the first entries only: position [0] its centre; velocity [0] its velocity and [1] its
+// angular velocity (space frame); force [0] the force on its centre and [1] the torque.
 using Vertices = Tet4;
+
+// The tangential spring of one granular contact, kept by the sphere whose owner computes
+// the contact (doc/spheres.md): key 0 is a free slot.
+struct HistorySlot {
+  std::int64_t key  = 0;
+  double       s[3] = {0, 0, 0};
+};
+constexpr int kHistorySlots = 12; // per sphere
 
 // Contact parameters, one set for every pair of body kinds (options -fdem_contact_*).
 struct Params {
@@ -111,6 +131,14 @@ public:
   // For the automatic buffer: the sum of this rank's proposals of a search buffer and their
   // number (the engine takes the mean over all kinds and ranks). Collective.
   virtual PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) = 0;
+  // Spheres: the kHistorySlots tangential springs of own sphere primitive i, readable and
+  // writable between HistoryBegin() and HistoryEnd() (null: none kept).
+  virtual PetscErrorCode HistoryBegin() { return 0; }
+  virtual HistorySlot   *History(int i) {
+    (void)i;
+    return nullptr;
+  }
+  virtual PetscErrorCode HistoryEnd() { return 0; }
 };
 
 // The log events FDEMContactList, FDEMContactDetect (search, ghosts and cell search),
@@ -146,6 +174,17 @@ public:
   void SetTS(TS ts) { ts_ = ts; }
   // One evaluation: gather, re-search when needed, pair loop, forces back. Collective.
   PetscErrorCode Evaluate();
+  // The time of the next evaluation: a granular contact's tangential spring advances by
+  // the slip rate times the time since the last evaluation.
+  void SetTime(PetscReal t) { time_ = t; }
+  // The granular laws of contacts with spheres: table[a * nmat + b] for the materials a, b
+  // of the two primitives (Primitive::mat). Tag (0-3) tells this engine's springs from
+  // another engine's in a sphere's slots.
+  void SetGranular(std::vector<fdem::kernels::GranularPair> table, int nmat, int tag) {
+    gtable_ = std::move(table);
+    gnmat_  = nmat;
+    gtag_   = tag;
+  }
   // omega_c dt / K_crit for the fdem TS type `scheme` (warning above 0.5). Collective.
   PetscErrorCode CheckTimeStep(const char *scheme, PetscReal dt, PetscReal *ratio);
 
@@ -166,6 +205,10 @@ private:
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);
+  // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
+  PetscErrorCode GranularForces(PetscReal sums[2], std::array<double, 3> &deep);
+  const fdem::kernels::GranularPair *Law(const Primitive &a, const Primitive &b) const;
+  Vertices      &Force(int i) { return i < nl_ ? f_[i] : gf_[i - nl_]; }
   const Tet4    &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }
   const Tet4    &V(int i) const { return i < nl_ ? v_[i] : gv_[i - nl_]; }
   const Primitive &P(int i) const { return i < nl_ ? prim_[i] : gprim_[i - nl_]; }
@@ -187,8 +230,19 @@ private:
   std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
   std::vector<char>             made_;           // frames_[i] made at this evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
+  std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
+  std::vector<fdem::kernels::GranularPair> gtable_;
+  int                           gnmat_ = 0, gtag_ = 0;
+  PetscReal                     time_ = 0, last_time_ = 0;
+  bool                          has_time_ = false;
+  PetscInt                      hist_overflow_ = 0; // contacts without a free history slot (warned once)
+  bool                          spheres_ = false;   // some rank lists a sphere
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };
+// The granular pair table of rb's materials (every pair mixed; a pair that cannot be mixed is
+// left empty, and an error names it if its bodies meet) set on engine with tag. Collective.
+PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag);
+
 } // namespace fdem::contact

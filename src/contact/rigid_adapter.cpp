@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace fdem::contact {
 using fdem::kernels::Mat3;
@@ -11,12 +12,46 @@ using fdem::model::RigidLayout;
 using fdem::model::ToMat3;
 using fdem::model::ToVec3;
 
+static_assert(fdem::model::kHistoryBytes == kHistorySlots * sizeof(HistorySlot), "the rigid swarm's history field holds the engine's slots");
+
+// Which faces of each skin tetrahedron lie on the skin's surface (bit o: the face opposite vertex o).
+static std::vector<std::int32_t> SurfaceFaces(const fdem::model::Skin &sk) {
+  std::map<std::array<int, 3>, int> count;
+  auto                              face = [&](const std::array<int, 4> &T, int o) {
+    std::array<int, 3> f = {T[(o + 1) % 4], T[(o + 2) % 4], T[(o + 3) % 4]};
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  for (const auto &T : sk.tets)
+    for (int o = 0; o < 4; ++o) ++count[face(T, o)];
+  std::vector<std::int32_t> s(sk.tets.size(), 0);
+  for (size_t t = 0; t < sk.tets.size(); ++t)
+    for (int o = 0; o < 4; ++o)
+      if (count[face(sk.tets[t], o)] == 1) s[t] |= 1 << o;
+  return s;
+}
+
+PetscErrorCode RigidAdapter::HistoryBegin() {
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetField(rb_->sw, "history", nullptr, nullptr, (void **)&hist_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RigidAdapter::HistoryEnd() {
+  PetscFunctionBegin;
+  PetscCall(DMSwarmRestoreField(rb_->sw, "history", nullptr, nullptr, (void **)&hist_));
+  hist_ = nullptr;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   fdem::model::RigidFields f;
   std::int64_t             tmax = 1;
   PetscFunctionBegin;
   for (const auto &sk : rb_->skins) tmax = std::max<std::int64_t>(tmax, (std::int64_t)sk.tets.size());
+  while (surface_.size() < rb_->skins.size()) surface_.push_back(SurfaceFaces(rb_->skins[surface_.size()]));
   body_.clear();
+  sphere_.clear();
   skin_.clear();
   radius_.clear();
   prim_body_.clear();
@@ -24,19 +59,44 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   prims.clear();
   PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
   for (PetscInt b = 0; b < rb_->n; ++b) {
+    const PetscInt id  = rb_->ids[b];
+    const PetscInt mat = id < (PetscInt)rb_->gmat.size() ? rb_->gmat[id] : -1;
+    if (f.skin[b] == fdem::model::kSphereSkin) {
+      Primitive p;
+      p.shape  = kSphere;
+      p.fixed  = rb_->fixed[b] ? 1 : 0;
+      p.body   = id;
+      p.key    = (std::int64_t)id * tmax;
+      p.mat    = (std::int32_t)mat;
+      p.radius = f.radius[b];
+      p.mass   = p.fixed ? 0 : f.mass[b];
+      prims.push_back(p);
+      prim_body_.push_back((int)body_.size());
+      prim_tet_.push_back(-1);
+      body_.push_back(b);
+      sphere_.push_back(1);
+      skin_.push_back(-1);
+      radius_.push_back(f.radius[b]);
+      continue;
+    }
     if (f.skin[b] < 0) continue;
     const auto &sk = rb_->skins[f.skin[b]];
     for (size_t t = 0; t < sk.tets.size(); ++t) {
       Primitive p;
-      p.fixed = rb_->fixed[b] ? 1 : 0;
-      p.body  = rb_->ids[b];
-      p.elem  = (PetscInt)t;
-      p.key   = (std::int64_t)rb_->ids[b] * tmax + (std::int64_t)t;
+      p.fixed   = rb_->fixed[b] ? 1 : 0;
+      p.body    = id;
+      p.elem    = (PetscInt)t;
+      p.key     = (std::int64_t)id * tmax + (std::int64_t)t;
+      p.mat     = (std::int32_t)mat;
+      p.mass    = p.fixed ? 0 : f.mass[b];
+      p.surface = surface_[f.skin[b]][t];
+      for (int k = 0; k < 4; ++k) p.node[k] = sk.tets[t][k]; // the skin's node numbers (a sphere's surface contacts)
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
       prim_tet_.push_back((int)t);
     }
     body_.push_back(b);
+    sphere_.push_back(0);
     skin_.push_back(f.skin[b]);
     radius_.push_back(f.radius[b]);
   }
@@ -54,6 +114,16 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
   PetscCheck(!v || u_, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the rigid bodies' velocities, which this force evaluation did not provide");
   for (size_t m = 0; m < n; ++m) {
     const int i = which ? (*which)[m] : (int)m, j = prim_body_[i];
+    if (sphere_[j]) { // centre; velocity and angular velocity
+      const PetscInt b = body_[j];
+      x[i][0] = x[i][1] = x[i][2] = x[i][3] = ToVec3(L.x(q_, b));
+      if (v) {
+        v[i][0] = ToVec3(L.v(u_, b));
+        v[i][1] = (1.0 / rb_->inertia[3 * b]) * ToVec3(L.H(u_, b)); // I = I 1: omega = H / I
+        v[i][2] = v[i][3] = Vec3();
+      }
+      continue;
+    }
     const auto &sk = rb_->skins[skin_[j]];
     if (j != last) { // the primitives of a body are consecutive: its skin nodes once
       const PetscInt b = body_[j];
@@ -86,6 +156,11 @@ PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertic
     Vec3           F, M;
     for (; m < which.size() && prim_body_[which[m]] == j; ++m) {
       const int i = which[m];
+      if (sphere_[j]) { // force on the centre and torque
+        F += f[i][0];
+        M += f[i][1];
+        continue;
+      }
       for (int k = 0; k < 4; ++k) {
         F += f[i][k];
         M += cross(x[i][k] - xc, f[i][k]);
@@ -108,7 +183,7 @@ PetscReal RigidAdapter::Move(size_t j) const {
   PetscReal          dx = 0, dR = 0;
   for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
   for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
-  return std::sqrt(dx) + radius_[j] * std::sqrt(dR);
+  return std::sqrt(dx) + (sphere_[j] ? 0 : radius_[j] * std::sqrt(dR)); // a sphere's surface does not move as it turns
 }
 
 PetscErrorCode RigidAdapter::MoveRatio(PetscReal *ratio) {
@@ -165,8 +240,8 @@ PetscErrorCode RigidAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscFunctionReturn(0);
 }
 
-std::string RigidAdapter::BodyName(const Primitive &p) const { return "rigid body " + std::to_string((long long)p.body); }
-std::string RigidAdapter::ElementName(const Primitive &p) const { return "skin tetrahedron " + std::to_string((long long)p.elem); }
+std::string RigidAdapter::BodyName(const Primitive &p) const { return (p.shape == kSphere ? "sphere " : "rigid body ") + std::to_string((long long)p.body); }
+std::string RigidAdapter::ElementName(const Primitive &p) const { return p.shape == kSphere ? std::string("ball") : "skin tetrahedron " + std::to_string((long long)p.elem); }
 
 // A tenth of each local body's bounding radius.
 PetscErrorCode RigidAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {

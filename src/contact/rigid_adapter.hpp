@@ -30,6 +30,9 @@ public:
   std::string    ElementName(const Primitive &p) const override;
   PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) override;
   PetscInt       NumBodies() const { return rb_->n; }
+  PetscErrorCode HistoryBegin() override;
+  HistorySlot   *History(int i) override { return hist_ ? reinterpret_cast<HistorySlot *>(hist_ + fdem::model::kHistoryBytes * (size_t)body_[prim_body_[i]]) : nullptr; }
+  PetscErrorCode HistoryEnd() override;
 
 private:
   FDEMRigid             rb_;
@@ -42,5 +45,8 @@ private:
   std::vector<int>       prim_body_;    // per primitive: its listed body
   std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron
   std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
+  std::vector<char>      sphere_;       // per listed body: a sphere
+  std::vector<std::vector<std::int32_t>> surface_; // per skin: each tetrahedron's surface faces (Primitive::surface)
+  char                  *hist_ = nullptr; // the swarm's "history" field between HistoryBegin and HistoryEnd
 };
 } // namespace fdem::contact

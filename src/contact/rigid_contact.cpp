@@ -20,10 +20,11 @@ struct _n_FDEMContact {
 namespace {
 // The model term of the force chain: q = local positions [x | R], FM += [F | M]; the
 // velocities come from the TS state rb->U.
-PetscErrorCode ContactForces(FDEMRigid rb, PetscReal, const PetscScalar *q, PetscScalar *FM, void *ctx) {
+PetscErrorCode ContactForces(FDEMRigid rb, PetscReal t, const PetscScalar *q, PetscScalar *FM, void *ctx) {
   FDEMContact        c = (FDEMContact)ctx;
   const PetscScalar *u = nullptr;
   PetscFunctionBegin;
+  c->engine.SetTime(t);
   if (rb->U) PetscCall(VecGetArrayRead(rb->U, &u));
   c->rigid.Bind(q, u, FM);
   PetscCall(c->engine.Evaluate());
@@ -32,8 +33,9 @@ PetscErrorCode ContactForces(FDEMRigid rb, PetscReal, const PetscScalar *q, Pets
 }
 
 // At FDEMRigidSetUpTS: the local bodies changed (migration): start over.
-PetscErrorCode ContactSetUp(FDEMRigid, void *ctx) {
+PetscErrorCode ContactSetUp(FDEMRigid rb, void *ctx) {
   PetscFunctionBegin;
+  PetscCall(fdem::contact::SetGranularTable(rb, ((FDEMContact)ctx)->engine, 0));
   ((FDEMContact)ctx)->engine.Reset();
   PetscFunctionReturn(0);
 }

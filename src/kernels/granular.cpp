@@ -40,6 +40,7 @@ GranularPair MixGranular(const GranularMaterial &a, const GranularMaterial &b, c
   p.law = a.law_set ? a.law : (b.law_set ? b.law : GranularLaw::Hertz);
   const double e = MixOptional(a.has_restitution, a.restitution, b.has_restitution, b.restitution, 1.0);
   if (!(e > 0 && e <= 1)) Fail(what, "restitution " + std::to_string(e) + " is not in (0, 1]");
+  p.restitution = e;
   p.mu = MixOptional(a.has_friction, a.friction, b.has_friction, b.friction, 0.0);
   p.mu_roll = MixOptional(a.has_rolling, a.rolling_friction, b.has_rolling, b.rolling_friction, 0.0);
   if (!(p.mu >= 0) || !(p.mu_roll >= 0)) Fail(what, "friction and rolling friction must be >= 0");

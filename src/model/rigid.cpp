@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -205,6 +206,10 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   f.skin[b]   = skin;
   f.fixed[b]  = 0;
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
+  char *hist;
+  PetscCall(DMSwarmGetField(rb->sw, "history", nullptr, nullptr, (void **)&hist));
+  std::memset(hist + fdem::model::kHistoryBytes * (size_t)b, 0, fdem::model::kHistoryBytes);
+  PetscCall(DMSwarmRestoreField(rb->sw, "history", nullptr, nullptr, (void **)&hist));
   PetscFunctionReturn(0);
 }
 
@@ -233,6 +238,7 @@ PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *out) {
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "id", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "skin", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "fixed", 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterUserStructField(rb->sw, "history", fdem::model::kHistoryBytes));
   PetscCall(DMSwarmFinalizeFieldRegister(rb->sw));
   PetscCall(DMSwarmSetLocalSizes(rb->sw, 0, 16));
   *out = rb;
@@ -322,6 +328,68 @@ PetscErrorCode FDEMRigidAddBody(FDEMRigid rb, const char *name, PetscReal mass, 
   const PetscReal zero[3] = {0, 0, 0};
   const PetscReal r       = std::sqrt(2.5 * Imax / mass); // a sphere's radius for the largest moment
   PetscCall(AddLocal(rb, -1, mass, Vec3(I[0], I[1], I[2]), x, Rm, v ? v : zero, omega ? omega : zero, r, id));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMGranularMaterialInitialize(FDEMGranularMaterial *m) {
+  PetscFunctionBegin;
+  m->law     = FDEM_GRANULAR_HERTZ;
+  m->law_set = PETSC_FALSE;
+  m->young = m->poisson = m->kn = m->kt = m->gamma_n = m->gamma_t = -1;
+  m->restitution = m->friction = m->rolling_friction = -1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidAddGranularMaterial(FDEMRigid rb, const char *name, const FDEMGranularMaterial *m, PetscInt *index) {
+  fdem::kernels::GranularMaterial g;
+  const char                     *nm = name ? name : "(unnamed)";
+  PetscFunctionBegin;
+  auto given = [](PetscReal v) { return std::isfinite(v) && v >= 0; };
+  PetscCheck(!(m->restitution >= 0) || (m->restitution > 0 && m->restitution <= 1), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Granular material %s: restitution %g is not in (0, 1]", nm, (double)m->restitution);
+  for (PetscReal v : {m->young, m->poisson, m->kn, m->kt, m->gamma_n, m->gamma_t, m->restitution, m->friction, m->rolling_friction})
+    PetscCheck(!std::isnan(v) && !std::isinf(v), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Granular material %s: a value is not finite", nm);
+  g.law_set         = m->law_set;
+  g.law             = m->law == FDEM_GRANULAR_HOOKE ? fdem::kernels::GranularLaw::Hooke : fdem::kernels::GranularLaw::Hertz;
+  g.young           = given(m->young) ? m->young : 0;
+  g.poisson         = m->poisson > -1 && m->poisson < 0.5 && m->young >= 0 ? m->poisson : 0;
+  g.kn              = given(m->kn) ? m->kn : 0;
+  g.kt              = given(m->kt) ? m->kt : 0;
+  g.gamma_n         = given(m->gamma_n) ? m->gamma_n : 0;
+  g.gamma_t         = given(m->gamma_t) ? m->gamma_t : 0;
+  g.has_restitution = given(m->restitution);
+  g.restitution     = g.has_restitution ? m->restitution : 0;
+  g.has_friction    = given(m->friction);
+  g.friction        = g.has_friction ? m->friction : 0;
+  g.has_rolling     = given(m->rolling_friction);
+  g.rolling_friction = g.has_rolling ? m->rolling_friction : 0;
+  rb->gmats.push_back(g);
+  rb->gmat_names.push_back(nm);
+  if (index) *index = (PetscInt)rb->gmats.size() - 1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidSetBodyMaterial(FDEMRigid rb, PetscInt id, PetscInt material) {
+  PetscFunctionBegin;
+  PetscCheck(id >= 0 && id < rb->next_id, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSetBodyMaterial: no body %" PetscInt_FMT, id);
+  PetscCheck(material >= -1 && material < (PetscInt)rb->gmats.size(), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidSetBodyMaterial: body %" PetscInt_FMT ": no granular material %" PetscInt_FMT " (%zu added)", id, material, rb->gmats.size());
+  if ((PetscInt)rb->gmat.size() < rb->next_id) rb->gmat.resize(rb->next_id, -1);
+  rb->gmat[id] = material;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidAddSphere(FDEMRigid rb, const char *name, PetscReal radius, PetscReal density, PetscInt material, const PetscReal x[3], const PetscReal v[3], const PetscReal omega[3], PetscInt *id) {
+  const char     *nm = name ? name : "(unnamed)";
+  const PetscReal zero[3] = {0, 0, 0};
+  PetscInt        myid;
+  PetscFunctionBegin;
+  PetscCheck(std::isfinite(radius) && radius > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): radius %g must be positive", nm, rb->next_id, (double)radius);
+  PetscCheck(std::isfinite(density) && density > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): density %g must be positive", nm, rb->next_id, (double)density);
+  PetscCheck(material >= 0 && material < (PetscInt)rb->gmats.size(), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): no granular material %" PetscInt_FMT " (%zu added)", nm, rb->next_id, material, rb->gmats.size());
+  for (int k = 0; k < 3; ++k) PetscCheck(std::isfinite(x[k]), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): the position is not finite", nm, rb->next_id);
+  const PetscReal m = 4.0 / 3.0 * PETSC_PI * radius * radius * radius * density, I = 0.4 * m * radius * radius;
+  PetscCall(AddLocal(rb, fdem::model::kSphereSkin, m, Vec3(I, I, I), x, Mat3::identity(), v ? v : zero, omega ? omega : zero, radius, &myid));
+  PetscCall(FDEMRigidSetBodyMaterial(rb, myid, material));
+  if (id) *id = myid;
   PetscFunctionReturn(0);
 }
 

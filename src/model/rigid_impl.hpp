@@ -2,6 +2,7 @@
 #pragma once
 #include "work_meter.hpp"
 #include <fdem/rigid.h>
+#include <fdem/kernels/granular.hpp>
 #include <fdem/kernels/vec3.hpp>
 
 #include <array>
@@ -43,6 +44,12 @@ inline Mat3 ToMat3(const PetscScalar *p) {
   return M;
 }
 
+// The skin index of a sphere body (a body without contact skin has -1).
+constexpr PetscInt kSphereSkin = -2;
+// Bytes per body of the swarm field "history": the tangential springs of a sphere's granular
+// contacts (the contact engine's slots, src/contact/engine.hpp), carried when it migrates.
+constexpr size_t kHistoryBytes = 12 * 32;
+
 struct OutputRecord {
   PetscInt  step;
   PetscReal t;
@@ -74,6 +81,12 @@ struct _n_FDEMRigid {
   std::vector<PetscReal> cuts;  // size - 1 slab boundaries along axis (FDEMRigidMigrate); empty: equal slabs of [lo, hi]
   PetscInt          next_id = 0;
   std::vector<Skin> skins; // replicated: every rank adds every body
+  // granular materials and each body's (by id; -1: none), replicated
+  std::vector<fdem::kernels::GranularMaterial> gmats;
+  std::vector<std::string>                     gmat_names;
+  std::vector<PetscInt>                        gmat;
+  std::vector<fdem::kernels::GranularPair>     gtable; // every pair mixed (the contact engine's), made for gtable_n materials
+  size_t                                       gtable_n = 0;
   // while a TS runs
   PetscInt               n = 0; // local bodies
   std::vector<PetscReal> mass, inertia;

@@ -33,6 +33,7 @@ struct GranularPair {
   // number alpha (gamma = alpha sqrt(m* S) with S the current stiffness),
   // chosen so that a head-on impact gives the pair's restitution.
   double estar = 0, gstar = 0, alpha = 0;
+  double restitution = 1; // the pair's restitution (Hooke without gamma_n: the damping rate for it at each contact's m*)
   double mu = 0;     // Coulomb friction coefficient
   double mu_roll = 0; // rolling resistance coefficient
 };

@@ -1,0 +1,278 @@
+// Contacts with spheres inside the contact engine (doc/spheres.md): sphere-sphere and
+// sphere-surface pairs, the granular force laws (kernels/granular.hpp) and the tangential
+// springs kept in the slots of the sphere whose owner computes the contact.
+#include "engine.hpp"
+#include "../util/guard.hpp"
+#include <fdem/kernels/sphere_surface.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace fdem::contact {
+using fdem::kernels::GranularContact;
+using fdem::kernels::GranularLaw;
+using fdem::kernels::GranularPair;
+using fdem::kernels::GranularResult;
+using fdem::kernels::TriFeature;
+
+namespace {
+std::uint64_t Mix(std::uint64_t h, std::uint64_t v) {
+  h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  h *= 0xBF58476D1CE4E5B9ull;
+  return h ^ (h >> 31);
+}
+// A contact's key in its holder's slots: the engine's tag in the top two bits, never 0.
+std::int64_t SlotKey(int tag, std::uint64_t h) { return (std::int64_t)(((std::uint64_t)tag << 62) | (h & ((1ull << 62) - 1)) | 1ull); }
+int          SlotTag(std::int64_t key) { return (int)((std::uint64_t)key >> 62); }
+
+// The effective mass of a contact; a mass of 0 is an immovable body.
+double EffectiveMass(double ma, double mb) { return ma > 0 && mb > 0 ? ma * mb / (ma + mb) : std::max(ma, mb); }
+
+// The law of one contact: a Hooke pair given a restitution instead of a damping rate gets the
+// rate that makes it, for this contact's effective mass.
+const GranularPair &ForContact(const GranularPair &p, double mstar, GranularPair &tmp) {
+  if (p.law != GranularLaw::Hooke || p.gamma_n > 0 || !(p.restitution < 1) || !(mstar > 0)) return p;
+  tmp         = p;
+  tmp.gamma_n = fdem::kernels::HookeDampingForRestitution(p.restitution, p.kn, mstar);
+  return tmp;
+}
+
+// The elastic energy of a contact: normal (Hertz or Hooke) and the tangential spring's.
+double ElasticEnergy(const GranularPair &p, double overlap, double rstar, const Vec3 &s) {
+  if (p.law == GranularLaw::Hooke) return 0.5 * p.kn * overlap * overlap + 0.5 * p.kt * dot(s, s);
+  const double a = std::sqrt(rstar * overlap);
+  return (8.0 / 15.0) * p.estar * a * overlap * overlap + 0.5 * 8.0 * p.gstar * a * dot(s, s);
+}
+
+// Barycentric weights of p (a point of the triangle a, b, c); equal thirds for a degenerate triangle.
+void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double w[3]) {
+  const Vec3   e0 = b - a, e1 = c - a, e2 = p - a;
+  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(e2, e0), d21 = dot(e2, e1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(den > 1e-30 * (d00 * d11))) {
+    w[0] = w[1] = w[2] = 1.0 / 3.0;
+    return;
+  }
+  w[1] = (d11 * d20 - d01 * d21) / den;
+  w[2] = (d00 * d21 - d01 * d20) / den;
+  w[0] = 1 - w[1] - w[2];
+}
+} // namespace
+
+const GranularPair *Engine::Law(const Primitive &a, const Primitive &b) const {
+  if (a.mat < 0 || b.mat < 0 || a.mat >= gnmat_ || b.mat >= gnmat_) {
+    const Primitive &m = a.mat < 0 || a.mat >= gnmat_ ? a : b, &o = &m == &a ? b : a;
+    throw std::runtime_error(adapters_[m.kind]->BodyName(m) + " touches " + adapters_[o.kind]->BodyName(o) + " but has no granular material (a sphere's contacts need one on both sides: give the body a material; see doc/spheres.md)");
+  }
+  const GranularPair &p = gtable_[(size_t)a.mat * gnmat_ + b.mat];
+  if (!(p.kn > 0) && !(p.estar > 0)) throw std::runtime_error(adapters_[a.kind]->BodyName(a) + " and " + adapters_[b.kind]->BodyName(b) + ": their materials give no granular law (see the set-up's message)");
+  return &p;
+}
+
+PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &deep) {
+  PetscFunctionBegin;
+  const double dt = has_time_ ? time_ - last_time_ : 0;
+  last_time_      = time_;
+  has_time_       = true;
+  for (auto *a : adapters_) PetscCall(a->HistoryBegin());
+  PetscInt overflow = 0;
+  PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
+    // 1. this engine's springs of every own sphere: those of a holder kept aside, all cleared
+    std::vector<int>         hoff(nl_, -1);
+    std::vector<HistorySlot> old;
+    auto                     slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
+    for (const auto *list : {&ss_, &st_})
+      for (const auto &p : *list)
+        if (hoff[p[0]] < 0) {
+          hoff[p[0]] = (int)old.size();
+          old.resize(old.size() + kHistorySlots);
+        }
+    for (int i = 0; i < nl_; ++i) {
+      if (prim_[i].shape != kSphere) continue;
+      HistorySlot *h = slots(i);
+      if (!h) continue;
+      for (int k = 0; k < kHistorySlots; ++k) {
+        if (!h[k].key || SlotTag(h[k].key) != gtag_) continue;
+        if (hoff[i] >= 0) old[hoff[i] + k] = h[k];
+        h[k] = HistorySlot{};
+      }
+    }
+    // the spring of contact `key` of holder i: its last value (zero if new), kept back after
+    auto take = [&](int i, std::int64_t key) {
+      Vec3 s;
+      if (hoff[i] >= 0)
+        for (int k = 0; k < kHistorySlots; ++k)
+          if (old[hoff[i] + k].key == key) s = Vec3(old[hoff[i] + k].s[0], old[hoff[i] + k].s[1], old[hoff[i] + k].s[2]);
+      return s;
+    };
+    auto keep = [&](int i, std::int64_t key, const Vec3 &s) {
+      HistorySlot *h = slots(i);
+      if (!h) return;
+      for (int k = 0; k < kHistorySlots; ++k)
+        if (!h[k].key) {
+          h[k] = HistorySlot{key, {s[0], s[1], s[2]}};
+          return;
+        }
+      ++overflow;
+    };
+    auto first = [&](double ratio, int a, int b) {
+      if (!checked_initial_ && ratio > deep[0]) deep = {ratio, (double)a, (double)b};
+    };
+
+    // 2. sphere-sphere: a is the holder (own), n from b to a
+    for (const auto &p : ss_) {
+      const int        a = p[0], b = p[1];
+      const Primitive &A = P(a), &B = P(b);
+      const Vec3       d    = X(a)[0] - X(b)[0];
+      const double     dist = norm(d), ov = A.radius + B.radius - dist;
+      if (!(ov > 0)) continue;
+      if (!(dist > 0)) throw std::runtime_error(adapters_[A.kind]->BodyName(A) + " and " + adapters_[B.kind]->BodyName(B) + " have the same centre");
+      GranularPair        tmp;
+      GranularContact     c;
+      c.n       = (1.0 / dist) * d;
+      c.overlap = ov;
+      c.vrel    = V(a)[0] - V(b)[0] - cross(A.radius * V(a)[1] + B.radius * V(b)[1], c.n);
+      c.wrel    = V(a)[1] - V(b)[1];
+      c.rstar   = A.radius * B.radius / (A.radius + B.radius);
+      c.mstar   = EffectiveMass(A.mass, B.mass);
+      const GranularPair  &law = ForContact(*Law(A, B), c.mstar, tmp);
+      const std::int64_t   key = SlotKey(gtag_, Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key));
+      Vec3                 s   = take(a, key);
+      const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
+      keep(a, key, s);
+      const Vec3 F = r.fn + r.ft;
+      Force(a)[0] += F;
+      Force(a)[1] += cross(-A.radius * c.n, F) + r.mroll;
+      Force(b)[0] -= F;
+      Force(b)[1] += cross(B.radius * c.n, -1.0 * F) - r.mroll;
+      sums[0] += ElasticEnergy(law, ov, c.rstar, s);
+      sums[1] += 1;
+      first(ov / (0.1 * std::min(A.radius, B.radius)), a, b);
+    }
+
+    // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
+    //    triangles as one surface (one contact per touched face, edge or vertex)
+    std::vector<Vec3>                nodes;
+    std::vector<PetscInt>            ids;
+    std::vector<std::array<int, 3>>  tris;
+    std::vector<std::array<int, 4>>  src; // per triangle: its tetrahedron and the three vertices
+    std::vector<int>                 cand;
+    for (size_t g = 0; g < st_.size();) {
+      const int        si = st_[g][0];
+      const Primitive &S = P(si), &T0 = P(st_[g][1]);
+      size_t           e = g;
+      while (e < st_.size() && st_[e][0] == si && P(st_[e][1]).kind == T0.kind && P(st_[e][1]).body == T0.body) ++e;
+      nodes.clear();
+      ids.clear();
+      tris.clear();
+      src.clear();
+      const Vec3 xs = X(si)[0];
+      for (size_t j = g; j < e; ++j) {
+        const int        t = st_[j][1];
+        const Primitive &T = P(t);
+        for (int o = 0; o < 4; ++o) {
+          if (!(T.surface >> o & 1)) continue;
+          std::array<int, 3> tri, vq;
+          for (int m = 0; m < 3; ++m) {
+            const int      q  = (o + 1 + m) % 4;
+            const PetscInt id = T.node[q] >= 0 ? T.node[q] : -1 - (PetscInt)(4 * t + q);
+            int            li = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
+            if (li == (int)ids.size()) {
+              ids.push_back(id);
+              nodes.push_back(X(t)[q]);
+            }
+            tri[m] = li;
+            vq[m]  = q;
+          }
+          tris.push_back(tri);
+          src.push_back({t, vq[0], vq[1], vq[2]});
+        }
+      }
+      cand.resize(tris.size());
+      for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
+      const auto contacts = fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand);
+      for (const auto &ct : contacts) {
+        const auto      &s4  = src[ct.tri];
+        const int        t   = s4[0];
+        const Primitive &T   = P(t);
+        GranularPair     tmp;
+        double           w[3];
+        Weights(ct.point, X(t)[s4[1]], X(t)[s4[2]], X(t)[s4[3]], w);
+        const Vec3 vsurf = w[0] * V(t)[s4[1]] + w[1] * V(t)[s4[2]] + w[2] * V(t)[s4[3]];
+        GranularContact c;
+        c.n       = ct.n;
+        c.overlap = ct.overlap;
+        c.vrel    = V(si)[0] - S.radius * cross(V(si)[1], ct.n) - vsurf;
+        c.wrel    = V(si)[1];
+        c.rstar   = S.radius;
+        c.mstar   = EffectiveMass(S.mass, T.mass);
+        const GranularPair &law = ForContact(*Law(S, T), c.mstar, tmp);
+        // the feature's key: the body and the node ids of the face, edge or vertex touched
+        const auto &tri = tris[ct.tri];
+        PetscInt    f[3];
+        int         nf = 0;
+        switch (ct.feature) {
+        case TriFeature::Face: f[0] = ids[tri[0]], f[1] = ids[tri[1]], f[2] = ids[tri[2]], nf = 3; break;
+        case TriFeature::EdgeAB: f[0] = ids[tri[0]], f[1] = ids[tri[1]], nf = 2; break;
+        case TriFeature::EdgeBC: f[0] = ids[tri[1]], f[1] = ids[tri[2]], nf = 2; break;
+        case TriFeature::EdgeCA: f[0] = ids[tri[2]], f[1] = ids[tri[0]], nf = 2; break;
+        case TriFeature::VertexA: f[0] = ids[tri[0]], nf = 1; break;
+        case TriFeature::VertexB: f[0] = ids[tri[1]], nf = 1; break;
+        case TriFeature::VertexC: f[0] = ids[tri[2]], nf = 1; break;
+        }
+        std::sort(f, f + nf);
+        std::uint64_t h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
+        for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
+        const std::int64_t   key = SlotKey(gtag_, h);
+        Vec3                 s   = take(si, key);
+        const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
+        keep(si, key, s);
+        const Vec3 F = r.fn + r.ft;
+        Force(si)[0] += F;
+        Force(si)[1] += cross(-S.radius * ct.n, F) + r.mroll;
+        for (int m = 0; m < 3; ++m) Force(t)[s4[1 + m]] -= w[m] * F;
+        sums[0] += ElasticEnergy(law, ct.overlap, c.rstar, s);
+        sums[1] += 1;
+        first(ct.overlap / (0.1 * S.radius), si, t);
+      }
+      g = e;
+    }
+    return 0;
+  }));
+  for (auto *a : adapters_) PetscCall(a->HistoryEnd());
+  PetscInt gover;
+  PetscCallMPI(MPI_Allreduce(&overflow, &gover, 1, MPIU_INT, MPI_SUM, comm_));
+  if (gover > 0 && hist_overflow_ == 0)
+    PetscCall(PetscPrintf(comm_, "WARNING %s: %" PetscInt_FMT " granular contacts found no free slot for their tangential spring (%d per sphere); they restart from zero at every step\n", who_.c_str(), gover, kHistorySlots));
+  hist_overflow_ += gover;
+  PetscFunctionReturn(0);
+}
+} // namespace fdem::contact
+
+#include "../model/rigid_impl.hpp"
+namespace fdem::contact {
+PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag) {
+  const int                 n = (int)rb->gmats.size();
+  std::vector<GranularPair> table((size_t)n * n);
+  PetscFunctionBegin;
+  if (rb->gtable_n == (size_t)n && rb->gtable.size() == (size_t)n * n) { // made before (the Hertz damping is a root search)
+    engine.SetGranular(rb->gtable, n, tag);
+    PetscFunctionReturn(0);
+  }
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const std::string what = "granular materials '" + rb->gmat_names[a] + "' and '" + rb->gmat_names[b] + "'";
+      try {
+        table[(size_t)a * n + b] = fdem::kernels::MixGranular(rb->gmats[a], rb->gmats[b], what.c_str());
+      } catch (const std::exception &e) {
+        if (a == b) SETERRQ(rb->comm, PETSC_ERR_USER_INPUT, "%s", e.what()); // a material alone must make a law
+        table[(size_t)a * n + b] = GranularPair{};                          // empty: an error if they meet
+      }
+    }
+  rb->gtable   = table;
+  rb->gtable_n = (size_t)n;
+  engine.SetGranular(std::move(table), n, tag);
+  PetscFunctionReturn(0);
+}
+} // namespace fdem::contact
