@@ -233,7 +233,6 @@ PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector
   PetscCallMPI(MPI_Allreduce(&nloc, &nmin, 1, MPIU_INT, MPI_MIN, comm));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   CHECK(size == 1 || nmin > 0, "bed: a rank holds no body; the parallel run tests nothing");
-  CHECK(st.active_pairs > 0 || st.evaluations == 0, "bed: no contact at the end");
   PetscCall(FDEMContactDestroy(&c));
   PetscCall(FDEMRigidDestroy(&rb));
   PetscFunctionReturn(0);
@@ -270,7 +269,7 @@ int main(int argc, char **argv) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bed (%s): %d ranks against 1: max |dx| %.3e m, |dv| %.3e m/s; energy %.6e -> %.6e J\n", diss ? "restitution 0.6, friction, rolling" : "elastic, frictionless", size, (double)dx, (double)dv, (double)e0, (double)e1));
     CHECK(dx < 1e-9 && dv < 1e-7, "bed: the parallel run differs from the serial one by %g m, %g m/s", (double)dx, (double)dv);
     if (!diss) CHECK(std::fabs(e1 - e0) < 1e-3 * std::fabs(e0), "bed: energy %g -> %g, not conserved to 1e-3", (double)e0, (double)e1);
-    else CHECK(e1 < e0, "bed: a dissipative contact gained energy (%g -> %g)", (double)e0, (double)e1);
+    else CHECK(e1 < 0.9 * e0, "bed: the dissipative contacts (only they dissipate) took less than 10%% of the energy (%g -> %g): no contacts?", (double)e0, (double)e1);
   }
   PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
