@@ -70,11 +70,26 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
   PetscCall(FDEMRigidSetDomain(s.rb, l, h));
   PetscCall(FDEMRigidSetGravity(s.rb, g));
   PetscCall(FDEMRigidSetFromOptions(s.rb));
-  PetscInt moving = 0;
+  PetscInt moving = 0, spheres = 0;
   for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed && !sc.bodies[i].moved;
-  if (sc.contact.present && s.rigid_bodies.size() >= 2 && moving > 0) {
+  for (int i : s.rigid_bodies) spheres += sc.bodies[i].model == "sphere";
+  // every material as a granular material (index = its place in the scene), for the contacts of spheres
+  for (const Material &m : sc.materials) {
+    FDEMGranularMaterial g;
+    PetscCall(FDEMGranularMaterialInitialize(&g));
+    g.law_set = m.contact_law.empty() ? PETSC_FALSE : PETSC_TRUE;
+    g.law     = m.contact_law == "hooke" ? FDEM_GRANULAR_HOOKE : FDEM_GRANULAR_HERTZ;
+    if (m.young > 0) g.young = m.young, g.poisson = m.poisson;
+    g.kn               = m.kn;
+    g.kt               = m.kt >= 0 ? m.kt : (m.kn > 0 ? 2.0 / 7.0 * m.kn : -1);
+    g.restitution      = m.restitution;
+    g.friction         = m.friction;
+    g.rolling_friction = m.rolling_friction;
+    PetscCall(FDEMRigidAddGranularMaterial(s.rb, m.name.c_str(), &g, nullptr));
+  }
+  if ((sc.contact.present || spheres > 0) && s.rigid_bodies.size() >= 2 && moving > 0) {
     PetscCall(FDEMContactCreate(s.rb, &s.rc));
-    PetscCall(FDEMContactSetPenalty(s.rc, sc.contact.penalty));
+    if (sc.contact.penalty > 0) PetscCall(FDEMContactSetPenalty(s.rc, sc.contact.penalty));
     PetscCall(FDEMContactSetDissipation(s.rc, sc.contact.normal_damping, sc.contact.friction, sc.contact.tangential_viscosity));
     if (sc.contact.buffer > 0) PetscCall(FDEMContactSetBuffer(s.rc, sc.contact.buffer));
     PetscCall(FDEMContactSetFromOptions(s.rc));
@@ -92,7 +107,12 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
               w[3] = {b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z};
     RowMajor(b.rotation, Q);
     PetscInt id;
-    PetscCall(FDEMRigidAddBodyFromMesh(s.rb, b.name.c_str(), (PetscInt)m.nodes.size(), nodes.data(), (PetscInt)m.tets.size(), tets.data(), density, x, Q, v, w, &id));
+    const PetscInt gm = mat ? (PetscInt)(mat - sc.materials.data()) : -1;
+    if (b.model == "sphere") PetscCall(FDEMRigidAddSphere(s.rb, b.name.c_str(), b.shape.radius, density, gm, x, v, w, &id));
+    else {
+      PetscCall(FDEMRigidAddBodyFromMesh(s.rb, b.name.c_str(), (PetscInt)m.nodes.size(), nodes.data(), (PetscInt)m.tets.size(), tets.data(), density, x, Q, v, w, &id));
+      if (gm >= 0) PetscCall(FDEMRigidSetBodyMaterial(s.rb, id, gm));
+    }
     if (b.fixed) PetscCall(FDEMRigidFixBody(s.rb, id));
     if (b.moved) {
       const PetscReal mv[3] = {b.move_velocity.x, b.move_velocity.y, b.move_velocity.z};
@@ -242,11 +262,13 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
   for (size_t i = 0; i < sc.bodies.size(); ++i) {
     const Body &b = sc.bodies[i];
-    (b.model == "rigid" ? s.rigid_bodies : s.deformable_bodies).push_back((int)i);
+    (b.model != "deformable" ? s.rigid_bodies : s.deformable_bodies).push_back((int)i);
     for (const auto &p : s.meshes[i].nodes) {
       const Vec3 q = b.position + b.rotation * p;
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], q[k]), hi[k] = std::max(hi[k], q[k]);
     }
+    if (b.model == "sphere")
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], b.position[k] - b.shape.radius), hi[k] = std::max(hi[k], b.position[k] + b.shape.radius);
   }
   if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;

@@ -55,7 +55,7 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   if (msg.rfind(sc.file + ":", 0) == 0) return msg; // the driver's own message, already placed
   std::vector<const Body *> rigid;
   for (const auto &b : sc.bodies)
-    if (b.model == "rigid") rigid.push_back(&b);
+    if (b.model != "deformable") rigid.push_back(&b); // spheres are rigid bodies
   std::string first;
   auto        by_id = [&](const std::string &id) {
     const size_t i = std::stoul(id);
@@ -79,8 +79,8 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   }
   else {
     std::string done; // every "rigid body N" (the contact engine names each side by its kind)
-    while (std::regex_search(msg, m, std::regex("rigid body (\\d+)"))) {
-      done += m.prefix().str() + "rigid body " + by_id(m[1]);
+    while (std::regex_search(msg, m, std::regex("(rigid body|sphere) (\\d+)"))) {
+      done += m.prefix().str() + m[1].str() + " " + by_id(m[2]);
       msg = m.suffix().str();
     }
     msg = done + msg;
@@ -94,7 +94,7 @@ std::string LoadScene(const char *file, Scene &sc, std::vector<fdem::kernels::Te
   try {
     sc = file ? ReadScene(file) : ReadScene("(default scene)", DefaultSceneText());
     ExpandPacks(sc);
-    for (const auto &b : sc.bodies) meshes.push_back(ShapeMesh(b));
+    for (const auto &b : sc.bodies) meshes.push_back(b.model == "sphere" ? fdem::kernels::TetMesh{} : ShapeMesh(b)); // a sphere needs no mesh
   } catch (const SceneError &e) {
     return e.what();
   } catch (const std::exception &e) {

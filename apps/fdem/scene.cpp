@@ -134,13 +134,13 @@ private:
 
 const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "bodies", "generate", "output", "checkpoint", "petsc"};
 const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
-const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture"};
+const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture", "restitution", "friction", "rolling_friction", "contact_law", "kn", "kt"};
 const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
 const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
 const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "mesh"};
-const std::vector<std::string> kBodyModel = {"rigid", "deformable"};
+const std::vector<std::string> kBodyModel = {"rigid", "deformable", "sphere"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
 
 Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node &n) {
@@ -157,6 +157,17 @@ Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node
     if (!(m.poisson > -1 && m.poisson < 0.5)) r.Fail(n["poisson"], w + ".poisson: must lie in (-1, 0.5), got " + n["poisson"].Scalar());
   }
   if (n["damping"]) m.damping = r.NonNegative(n["damping"], w + ".damping");
+  if (n["restitution"]) {
+    m.restitution = r.Positive(n["restitution"], w + ".restitution");
+    if (!(m.restitution <= 1)) r.Fail(n["restitution"], w + ".restitution: must lie in (0, 1], got " + n["restitution"].Scalar());
+  }
+  if (n["friction"]) m.friction = r.NonNegative(n["friction"], w + ".friction");
+  if (n["rolling_friction"]) m.rolling_friction = r.NonNegative(n["rolling_friction"], w + ".rolling_friction");
+  if (n["contact_law"]) m.contact_law = r.Choice(n["contact_law"], w + ".contact_law", {"hertz", "hooke"});
+  if (n["kn"]) m.kn = r.Positive(n["kn"], w + ".kn");
+  if (n["kt"]) m.kt = r.NonNegative(n["kt"], w + ".kt");
+  if (m.contact_law == "hooke" && !n["kn"]) r.Fail(n["contact_law"], w + ".contact_law: hooke needs kn (N/m), the normal stiffness");
+  if (m.contact_law == "hertz" && !(n["young"] && n["poisson"])) r.Fail(n["contact_law"], w + ".contact_law: hertz needs young and poisson");
   if (n["fracture"]) {
     const YAML::Node  f  = n["fracture"];
     const std::string wf = w + ".fracture";
@@ -285,12 +296,13 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
   w       = "body '" + b.name + "'";
   b.model = r.Choice(r.Required(n, "model", w), w + ".model", kBodyModel);
   b.shape = ReadShape(r, w + ".shape", r.Required(n, "shape", w), dir);
+  if (b.model == "sphere" && b.shape.kind != ShapeKind::Sphere) r.Fail(n["shape"], w + ".shape: a body of model sphere has shape {sphere: radius}");
   if (n["fixed"]) {
     b.fixed = r.Bool(n["fixed"], w + ".fixed");
-    if (b.model != "rigid") r.Fail(n["fixed"], w + ".fixed: only rigid bodies are fixed as a whole; fix the nodes of a deformable body with fix: {below: [axis, value]}, {above: ...} or {group: name}");
+    if (b.model == "deformable") r.Fail(n["fixed"], w + ".fixed: only rigid bodies are fixed as a whole; fix the nodes of a deformable body with fix: {below: [axis, value]}, {above: ...} or {group: name}");
   }
   if (n["material"]) b.material = r.String(n["material"], w + ".material");
-  else if (!b.fixed && !(b.model == "rigid" && n["move"])) r.Fail(n, w + ": missing required key 'material' (only a fixed or moved rigid body may omit it)");
+  else if (!b.fixed && !(b.model != "deformable" && n["move"])) r.Fail(n, w + ": missing required key 'material' (only a fixed or moved rigid body may omit it)");
   if (n["resolution"]) b.resolution = r.Positive(n["resolution"], w + ".resolution");
   if (n["position"]) b.position = r.Vector(n["position"], w + ".position");
   if (n["velocity"]) b.velocity = r.Vector(n["velocity"], w + ".velocity");
@@ -312,7 +324,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     const YAML::Node m = n["move"];
     b.moved            = true;
     b.move_where       = r.At(m);
-    if (b.model == "rigid") {
+    if (b.model != "deformable") {
       r.Keys(m, w + ".move", {"velocity"});
       if (b.fixed) r.Fail(m, w + ".move: a body is either fixed: true or moved, not both");
       if (n["velocity"] || n["angular_velocity"]) r.Fail(n["velocity"] ? n["velocity"] : n["angular_velocity"], w + ": a moved body's velocity is move.velocity (it moves without turning); remove velocity/angular_velocity");

@@ -33,6 +33,9 @@ struct Material {
   std::string name, model = "munjiza_cst";
   double      density = 0, young = 0, poisson = 0, damping = 0;
   Fracture    fracture;
+  // granular contact of spheres (doc/spheres.md); < 0: not given
+  std::string contact_law; // "hertz" | "hooke" | "" (not given)
+  double      restitution = -1, friction = -1, rolling_friction = -1, kn = -1, kt = -1;
   Where       where;
 };
 
@@ -71,7 +74,7 @@ struct VelocityField {
 };
 
 struct Body {
-  std::string name, model, material; // model: rigid | deformable
+  std::string name, model, material; // model: rigid | deformable | sphere
   Shape       shape;
   double      resolution = -1;      // element size (< 0: default, see shapes.cpp)
   Vec3        position, velocity, angular_velocity;

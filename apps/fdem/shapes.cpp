@@ -122,7 +122,7 @@ void ExpandPacks(Scene &sc) {
         if (b.resolution > 0) b.resolution *= s;
         if (b.shape.kind == ShapeKind::Mesh) throw SceneError(p.where + ": pack: scale other than [1, 1] is not available for mesh shapes ('" + like.name + "')");
       }
-      const double r = BoundingRadius(ShapeMesh(b));
+      const double r = b.model == "sphere" ? b.shape.radius : BoundingRadius(ShapeMesh(b));
       Vec3         axis(N(rng), N(rng), N(rng));
       b.rotation = kernels::RotationMatrix(axis * (M_PI * U(rng) / std::max(norm(axis), 1e-12)));
       bool ok    = false;

@@ -61,11 +61,13 @@ void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double 
 } // namespace
 
 const GranularPair *Engine::Law(const Primitive &a, const Primitive &b) const {
-  if (a.mat < 0 || b.mat < 0 || a.mat >= gnmat_ || b.mat >= gnmat_) {
+  // a body without a granular material meets a sphere with the other side's material
+  const int ma = a.mat >= 0 ? a.mat : b.mat, mb = b.mat >= 0 ? b.mat : a.mat;
+  if (ma < 0 || ma >= gnmat_ || mb >= gnmat_) {
     const Primitive &m = a.mat < 0 || a.mat >= gnmat_ ? a : b, &o = &m == &a ? b : a;
     throw std::runtime_error(adapters_[m.kind]->BodyName(m) + " touches " + adapters_[o.kind]->BodyName(o) + " but has no granular material (a sphere's contacts need one on both sides: give the body a material; see doc/spheres.md)");
   }
-  const GranularPair &p = gtable_[(size_t)a.mat * gnmat_ + b.mat];
+  const GranularPair &p = gtable_[(size_t)ma * gnmat_ + mb];
   if (!(p.kn > 0) && !(p.estar > 0)) throw std::runtime_error(adapters_[a.kind]->BodyName(a) + " and " + adapters_[b.kind]->BodyName(b) + ": their materials give no granular law (see the set-up's message)");
   return &p;
 }

@@ -45,9 +45,12 @@ GranularPair MixGranular(const GranularMaterial &a, const GranularMaterial &b, c
   p.mu_roll = MixOptional(a.has_rolling, a.rolling_friction, b.has_rolling, b.rolling_friction, 0.0);
   if (!(p.mu >= 0) || !(p.mu_roll >= 0)) Fail(what, "friction and rolling friction must be >= 0");
   if (p.law == GranularLaw::Hertz) {
+    // a side without young is rigid (no compliance): a sphere against a rigid wall
+    if (!(a.young > 0) && !(b.young > 0)) Fail(what, "the Hertz law needs young > 0 on at least one of the two materials");
     auto compliance = [&](const GranularMaterial &m, double &cn, double &ct) {
-      if (!(m.young > 0) || !(m.poisson > -1 && m.poisson < 0.5))
-        Fail(what, "the Hertz law needs young > 0 and poisson in (-1, 0.5) on both materials");
+      cn = ct = 0;
+      if (!(m.young > 0)) return;
+      if (!(m.poisson > -1 && m.poisson < 0.5)) Fail(what, "the Hertz law needs poisson in (-1, 0.5)");
       cn = (1 - m.poisson * m.poisson) / m.young;
       ct = 2 * (2 - m.poisson) * (1 + m.poisson) / m.young;
     };
