@@ -150,7 +150,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       Force(b)[1] += cross(B.radius * c.n, -1.0 * F) - r.mroll;
       sums[0] += ElasticEnergy(law, ov, c.rstar, s);
       sums[1] += 1;
-      first(ov / (0.1 * std::min(A.radius, B.radius)), a, b);
+      first(ov / (0.5 * std::min(A.radius, B.radius)), a, b); // deep: half the smaller radius
     }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
@@ -236,7 +236,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         for (int m = 0; m < 3; ++m) Force(t)[s4[1 + m]] -= w[m] * F;
         sums[0] += ElasticEnergy(law, ct.overlap, c.rstar, s);
         sums[1] += 1;
-        first(ct.overlap / (0.1 * S.radius), si, t);
+        first(ct.overlap / (0.5 * S.radius), si, t);
       }
       g = e;
     }

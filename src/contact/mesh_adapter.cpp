@@ -77,6 +77,8 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     p.body = A.body[e];
     p.elem = A.gid[e];
     p.key  = A.gid[e];
+    p.surface = (std::int32_t)(surf & 0xF);
+    p.mat     = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);

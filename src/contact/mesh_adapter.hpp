@@ -46,6 +46,11 @@ public:
   const std::vector<PetscReal> &BodyForce() const { return body_force_; }
   PetscInt                      NumBodies() const { return nbodies_; }
   PetscInt                      NumCells() const { return (PetscInt)conn_.size(); }
+  // The granular material of each body (-1: none), for contacts with spheres.
+  void                          SetGranularMaterials(std::vector<std::int32_t> m) {
+    gmat_ = std::move(m);
+    for (auto &p : prims_) p.mat = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
+  }
 
 private:
   // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
@@ -71,5 +76,6 @@ private:
   const PetscScalar                   *xl_ = nullptr, *vl_ = nullptr;
   PetscScalar                         *fl_ = nullptr;
   bool                                 require_v_ = true;
+  std::vector<std::int32_t>            gmat_; // per body: granular material
 };
 } // namespace fdem::contact

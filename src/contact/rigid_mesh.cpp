@@ -1,5 +1,6 @@
 // Contact between rigid bodies and a deformable mesh (rigid_mesh.hpp).
 #include "rigid_mesh.hpp"
+#include "../model/deformable_object.hpp"
 
 namespace fdem::contact {
 PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
@@ -13,6 +14,16 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   const bool first = !mesh_;
   mesh_.reset(m);
   rigid_ = std::make_unique<RigidAdapter>(rb);
+  { // each mesh body's granular material: the rigid model's material of the same name (the driver adds every material)
+    std::vector<std::int32_t> gm(d->body_names.size(), -1);
+    for (size_t b = 0; b < gm.size() && b < d->material_of_body.size(); ++b) {
+      const std::string &name = d->materials[d->material_of_body[b]].name;
+      for (size_t k = 0; k < rb->gmat_names.size(); ++k)
+        if (rb->gmat_names[k] == name) gm[b] = (std::int32_t)k;
+    }
+    m->SetGranularMaterials(gm);
+  }
+  PetscCall(SetGranularTable(rb, engine, 1));
   if (first) {
     engine.AddAdapter(mesh_.get()); // kind 0: a pair is computed by the rank owning its mesh cell
     engine.AddAdapter(rigid_.get());
@@ -27,9 +38,10 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode RigidMeshContact::Evaluate(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl, const PetscScalar *rq, const PetscScalar *ru) {
+PetscErrorCode RigidMeshContact::Evaluate(PetscReal t, const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl, const PetscScalar *rq, const PetscScalar *ru) {
   PetscFunctionBegin;
   fm_.assign(fdem::model::RigidLayout::force_size * (size_t)rigid_->NumBodies(), 0.0);
+  engine.SetTime(t);
   mesh_->Bind(xl, vl, fl);
   rigid_->Bind(rq, ru, fm_.data());
   PetscCall(engine.Evaluate());

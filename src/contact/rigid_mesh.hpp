@@ -20,7 +20,7 @@ public:
   // Collective: forces at mesh positions xl (local; velocities vl may be null) and rigid
   // positions rq = [x | R], state ru = [x | R | v | H]: nodal forces added to fl; the local
   // bodies' [F | M] in RigidForces().
-  PetscErrorCode Evaluate(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl, const PetscScalar *rq, const PetscScalar *ru);
+  PetscErrorCode Evaluate(PetscReal t, const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl, const PetscScalar *rq, const PetscScalar *ru);
   const std::vector<PetscScalar> &RigidForces() const { return fm_; }
   PetscInt                        NumMeshCells() const { return cells_; }
 

@@ -92,7 +92,23 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
     touches.push_back(h);
   }
   auto holds = [&](int t, int node) { return tris[t][0] == node || tris[t][1] == node || tris[t][2] == node; };
-  std::vector<SurfaceContact> out;
+  auto nodes_of = [&](const Touch &h, int out[3]) {
+    if (h.kind == 0) {
+      for (int k = 0; k < 3; ++k) out[k] = tris[h.c.tri][k];
+      return 3;
+    }
+    out[0] = h.na, out[1] = h.nb;
+    return h.kind == 1 ? 2 : 1;
+  };
+  auto SharesNode = [&](const Touch &a, const Touch &b) {
+    int na[3], nb[3];
+    const int ka = nodes_of(a, na), kb = nodes_of(b, nb);
+    for (int x = 0; x < ka; ++x)
+      for (int y = 0; y < kb; ++y)
+        if (na[x] == nb[y]) return true;
+    return false;
+  };
+  std::vector<Touch> kept;
   for (std::size_t i = 0; i < touches.size(); ++i) {
     const Touch &h    = touches[i];
     bool         keep = true;
@@ -103,6 +119,18 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
       else if (h.kind == 1 && o.kind == 0 && holds(o.c.tri, h.na) && holds(o.c.tri, h.nb)) keep = false;  // an edge of a face the sphere is over
       else if (h.kind == 2 && o.kind == 0 && holds(o.c.tri, h.na)) keep = false;                          // a vertex of such a face
       else if (h.kind == 2 && o.kind == 1 && (o.na == h.na || o.nb == h.na)) keep = false;                // a vertex of a touched edge
+    }
+    if (keep) kept.push_back(h);
+  }
+  // two neighbouring features of a nearly flat fold touched at nearly one point: their contact
+  // patches overlap, one contact (the deeper; of equal ones the first)
+  std::vector<SurfaceContact> out;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const Touch &h    = kept[i];
+    bool         keep = true;
+    for (std::size_t j = 0; j < kept.size() && keep; ++j) {
+      const Touch &o = kept[j];
+      if (j != i && SharesNode(h, o) && norm(h.c.point - o.c.point) < std::sqrt(r * std::max(h.c.overlap, o.c.overlap)) && (o.c.overlap > h.c.overlap || (o.c.overlap == h.c.overlap && j < i))) keep = false;
     }
     if (keep) out.push_back(h.c);
   }

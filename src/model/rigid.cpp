@@ -389,6 +389,7 @@ PetscErrorCode FDEMRigidAddSphere(FDEMRigid rb, const char *name, PetscReal radi
   const PetscReal m = 4.0 / 3.0 * PETSC_PI * radius * radius * radius * density, I = 0.4 * m * radius * radius;
   PetscCall(AddLocal(rb, fdem::model::kSphereSkin, m, Vec3(I, I, I), x, Mat3::identity(), v ? v : zero, omega ? omega : zero, radius, &myid));
   PetscCall(FDEMRigidSetBodyMaterial(rb, myid, material));
+  rb->nspheres++;
   if (id) *id = myid;
   PetscFunctionReturn(0);
 }

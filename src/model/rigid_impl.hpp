@@ -87,6 +87,7 @@ struct _n_FDEMRigid {
   std::vector<PetscInt>                        gmat;
   std::vector<fdem::kernels::GranularPair>     gtable; // every pair mixed (the contact engine's), made for gtable_n materials
   size_t                                       gtable_n = 0;
+  PetscInt                                     nspheres = 0; // sphere bodies added (every rank)
   // while a TS runs
   PetscInt               n = 0; // local bodies
   std::vector<PetscReal> mass, inertia;

@@ -41,7 +41,7 @@ inline PetscInt OffRigid(FDEMScene s) { return 3 * s->nd; }
 inline PetscInt OffDefV(FDEMScene s) { return 3 * s->nd + 18 * s->nr; }
 
 // The scene's term in the mesh's force chain: rigid-deformable contact while the scene evaluates.
-PetscErrorCode SceneContactForce(FDEMDeformable, PetscReal, Vec xloc, Vec vloc, Vec floc, void *ctx) {
+PetscErrorCode SceneContactForce(FDEMDeformable, PetscReal t, Vec xloc, Vec vloc, Vec floc, void *ctx) {
   FDEMScene          s = (FDEMScene)ctx;
   const PetscScalar *xl, *vl = nullptr;
   PetscScalar       *fl;
@@ -50,7 +50,7 @@ PetscErrorCode SceneContactForce(FDEMDeformable, PetscReal, Vec xloc, Vec vloc, 
   PetscCall(VecGetArrayRead(xloc, &xl));
   if (vloc) PetscCall(VecGetArrayRead(vloc, &vl));
   PetscCall(VecGetArray(floc, &fl));
-  PetscCall(s->c->Evaluate(xl, vl, fl, s->cur_rq, s->cur_ru));
+  PetscCall(s->c->Evaluate(t, xl, vl, fl, s->cur_rq, s->cur_ru));
   PetscCall(VecRestoreArray(floc, &fl));
   if (vloc) PetscCall(VecRestoreArrayRead(vloc, &vl));
   PetscCall(VecRestoreArrayRead(xloc, &xl));
@@ -289,7 +289,8 @@ PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
     PetscCall(fdem::model::RigidForcesSetUp(s->rb)); // the local bodies may have changed: rigid-rigid contact starts over
   }
   // rigid-deformable contact: only when asked for and there is something to touch
-  s->contact = s->penalty > 0 && s->rb && s->dfm && s->nr_global > 0;
+  // (spheres touch meshes through their granular law, without a penalty)
+  s->contact = (s->penalty > 0 || (s->rb && s->rb->nspheres > 0)) && s->rb && s->dfm && s->nr_global > 0;
   PetscCall(Unhook(s));
   if (s->contact) {
     PetscCall(s->c->SetUp(s->rb, s->dfm, ts));

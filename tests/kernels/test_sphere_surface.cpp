@@ -134,3 +134,27 @@ TEST(SphereSurface, ConcaveCornerTouchesBothFaces) {
   EXPECT_TRUE(SphereSurfaceContacts(Vec3(0.5, 0.5, 0.5), r, nodes, tris, All(tris.size())).empty());
   EXPECT_EQ(SphereSurfaceContacts(Vec3(0.19, 0.5, 0.18), r, nodes, tris, {0, 1}).size(), 1u);
 }
+
+// Two triangles folded along their shared edge by a tiny angle (a deformed mesh's flat
+// face): a sphere over the edge feels one contact, whether the fold is convex, concave or
+// flat to round-off, and the overlap is that of the flat surface; a real valley (20 degrees
+// each side) still gives two. (Before, a concave fold of 1e-9 rad counted both faces: the
+// force doubled across a fold no one could see.)
+TEST(SphereSurface, NearlyFlatFoldGivesOneContact) {
+  const double r = 0.1;
+  for (double angle : {-1e-9, 0.0, 1e-9, 1e-6, -1e-4, 0.35}) {
+    // edge along y through the origin; faces towards -x and +x, tilted up by `angle` (> 0: a valley)
+    const double      c = std::cos(angle), s = std::sin(angle);
+    std::vector<Vec3> nodes = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-c, 0, s), Vec3(c, 0, s)};
+    std::vector<std::array<int, 3>> tris = {{0, 1, 2}, {1, 0, 3}};
+    for (double x : {0.0, 1e-12, -3e-10}) {
+      const auto cs = SphereSurfaceContacts(Vec3(x, 0.1, 0.095), r, nodes, tris, All(tris.size()));
+      if (angle < 0.3) {
+        ASSERT_EQ(cs.size(), 1u) << "fold " << angle << ", centre x " << x;
+        EXPECT_NEAR(cs[0].overlap, 0.005, 1e-3 * 0.005 + 0.2 * std::fabs(angle)) << "fold " << angle;
+      } else {
+        EXPECT_EQ(cs.size(), 2u) << "a valley of " << angle << " rad each side touches both faces";
+      }
+    }
+  }
+}

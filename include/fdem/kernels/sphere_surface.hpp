@@ -39,7 +39,10 @@ struct SurfaceContact {
 // several triangles counts once, and it does not count at all when a triangle that
 // holds that edge or vertex touches the sphere with a point inside its face (the
 // sphere is over that face: the face's contact is the one to feel; likewise a vertex
-// of a touched edge). Where the surface is concave each face touched counts.
+// of a touched edge). Where the surface is concave each face touched counts, unless two
+// neighbouring features (sharing a node) are touched at points closer than the contact
+// radius sqrt(r overlap) (a nearly flat fold, e.g. of a deformed mesh): their patches
+// overlap, and the deeper one alone counts.
 // Deterministic: contacts in the order of the candidates.
 std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates);
 
