@@ -351,7 +351,7 @@ PetscErrorCode SimStableStep(Sim &s, const char *scheme, PetscReal safety, Stabl
     PetscCall(FDEMSceneCheckTimeStep(s.sc, scheme, tiny, &ratio));
     st.omega_contact = std::max(st.omega_contact, ratio * st.kcrit / tiny);
   }
-  if (st.omega_contact > st.omega_elements) st.limit = "contact (the penalty against the lightest body or element)";
+  if (st.omega_contact > st.omega_elements) st.limit = "contact (the penalty or a granular law against the lightest body or element)";
   if (s.dfm) PetscCall(FDEMDeformableGetJointFrequency(s.dfm, &st.omega_joints));
   if (st.omega_joints > std::max(st.omega_contact, st.omega_elements)) st.limit = "the fracture joints (the joint penalty against the nodal masses)";
   const double w = std::max({st.omega_contact, st.omega_elements, st.omega_joints});

@@ -9,6 +9,7 @@
 // the command line, so an option on the command line wins.
 #include "run.hpp"
 #include "scene.hpp"
+#include "advisor.hpp"
 #include "shapes.hpp"
 
 #include <fdem.h>
@@ -90,10 +91,11 @@ std::string NameBodies(const Scene &sc, std::string msg) {
 }
 
 // Reads the scene and its meshes (every rank, the same result). Returns an error message or "".
-std::string LoadScene(const char *file, Scene &sc, std::vector<fdem::kernels::TetMesh> &meshes) {
+std::string LoadScene(const char *file, Scene &sc, std::vector<fdem::kernels::TetMesh> &meshes, double strain_limit, std::vector<std::string> &report) {
   try {
     sc = file ? ReadScene(file) : ReadScene("(default scene)", DefaultSceneText());
     ExpandPacks(sc);
+    ApplyAuto(sc, strain_limit, report);
     for (const auto &b : sc.bodies) meshes.push_back(b.model == "sphere" ? fdem::kernels::TetMesh{} : ShapeMesh(b)); // a sphere needs no mesh
   } catch (const SceneError &e) {
     return e.what();
@@ -122,7 +124,12 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   }
   Scene                                sc;
   std::vector<fdem::kernels::TetMesh> meshes;
-  const std::string                    err = LoadScene(file, sc, meshes);
+  std::vector<std::string>             report;
+  PetscReal                            strain_limit = 1e-2;
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "fdem model advisor (doc/advisor.md)", "fdem");
+  PetscCall(PetscOptionsReal("-fdem_advise_strain", "Expected strain above which a body needs a deformable mesh (model: auto and fdem check)", "fdem", strain_limit, &strain_limit, nullptr));
+  PetscOptionsEnd();
+  const std::string err = LoadScene(file, sc, meshes, strain_limit, report);
   if (!err.empty()) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", err.c_str()));
     *status = 1;
@@ -137,6 +144,16 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   }
   RunOptions o;
   o.check_only = mode && !std::strcmp(mode, "check") ? PETSC_TRUE : PETSC_FALSE;
+  if (o.check_only) {
+    std::vector<std::string> advice;
+    try {
+      advice = AdviceReport(sc, strain_limit, 20);
+    } catch (const std::exception &e) {
+      advice = {std::string("model advice: ") + e.what()};
+    }
+    report.insert(report.end(), advice.begin(), advice.end());
+  }
+  for (const auto &line : report) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n", line.c_str()));
   PetscCall(RunOptionsFromCommandLine(PETSC_COMM_WORLD, o));
   const PetscErrorCode ierr = RunScene(PETSC_COMM_WORLD, sc, std::move(meshes), o);
   if (ierr) {

@@ -140,7 +140,7 @@ const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "ne
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
 const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
 const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "mesh"};
-const std::vector<std::string> kBodyModel = {"rigid", "deformable", "sphere"};
+const std::vector<std::string> kBodyModel = {"rigid", "deformable", "sphere", "auto"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
 
 Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node &n) {
@@ -316,7 +316,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     b.rotation = kernels::RotationMatrix(axis * (deg * M_PI / 180 / norm(axis)));
   }
   if (n["fix"]) {
-    if (b.model != "deformable") r.Fail(n["fix"], w + ".fix: node sets belong to deformable bodies; a rigid body is held with fixed: true");
+    if (b.model != "deformable" && b.model != "auto") r.Fail(n["fix"], w + ".fix: node sets belong to deformable bodies; a rigid body is held with fixed: true");
     b.fix = ReadNodeSet(r, w + ".fix", n["fix"]);
     if (b.fix.kind == NodeSet::Group && b.shape.kind != ShapeKind::Mesh) r.Fail(n["fix"], w + ".fix.group: physical groups exist only for shape {mesh: ...}");
   }
@@ -324,7 +324,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     const YAML::Node m = n["move"];
     b.moved            = true;
     b.move_where       = r.At(m);
-    if (b.model != "deformable") {
+    if (b.model == "rigid" || b.model == "sphere" || (b.model == "auto" && !m["below"] && !m["above"] && !m["group"])) {
       r.Keys(m, w + ".move", {"velocity"});
       if (b.fixed) r.Fail(m, w + ".move: a body is either fixed: true or moved, not both");
       if (n["velocity"] || n["angular_velocity"]) r.Fail(n["velocity"] ? n["velocity"] : n["angular_velocity"], w + ": a moved body's velocity is move.velocity (it moves without turning); remove velocity/angular_velocity");
@@ -335,7 +335,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
     b.move_velocity = r.Vector(r.Required(m, "velocity", w + ".move"), w + ".move.velocity");
   }
   if (n["velocity_field"]) {
-    if (b.model != "deformable") r.Fail(n["velocity_field"], w + ".velocity_field: only a deformable body has a velocity field; a rigid body has velocity and angular_velocity");
+    if (b.model != "deformable" && b.model != "auto") r.Fail(n["velocity_field"], w + ".velocity_field: only a deformable body has a velocity field; a rigid body has velocity and angular_velocity");
     b.velocity_field = ReadVelocityField(r, w + ".velocity_field", n["velocity_field"]);
   }
   return b;
@@ -457,7 +457,7 @@ Scene ReadScene(const std::string &file, const char *text) {
       for (const auto &m : sc.materials) known.push_back(m.name);
       r.Fail(bodies[i]["material"], "body '" + b.name + "'.material: unknown material '" + b.material + "'" + (known.empty() ? std::string(" (the scene has no materials:)") : " (did you mean '" + Nearest(b.material, known) + "'? materials: " + Join(known) + ")"));
     }
-    if (b.model != "deformable" && !b.material.empty() && sc.FindMaterial(b.material)->fracture.present)
+    if (b.model != "deformable" && b.model != "auto" && !b.material.empty() && sc.FindMaterial(b.material)->fracture.present)
       r.Fail(bodies[i]["material"], "body '" + b.name + "': material '" + b.material + "' is fracturable (fracture: at " + sc.FindMaterial(b.material)->fracture.where + "), and only deformable bodies fracture; give the body model: deformable, or a material without fracture:");
     if (b.model == "deformable") {
       const Material *m = sc.FindMaterial(b.material);
@@ -520,7 +520,7 @@ const char *SceneKeysHelp() {
          "             granular contact of spheres: restitution: (0, 1], friction: mu, rolling_friction: mu_r, contact_law: hertz|hooke, kn: N/m, kt: N/m\n"
          "  contact: {penalty: Pa (required), friction: mu, normal_damping: Pa s/m, tangential_viscosity: Pa s/m, buffer: m | auto}\n"
          "  bodies: list of\n"
-         "    {name, model: rigid|deformable|sphere (shape {sphere: r}), material, shape, resolution: element size,\n"
+         "    {name, model: rigid|deformable|sphere (shape {sphere: r})|auto (fdem chooses; fdem check shows why), material, shape, resolution: element size,\n"
          "     position: [x,y,z], rotation: {axis: [x,y,z], degrees}, velocity: [..], angular_velocity: [..],\n"
          "     fixed: true (rigid), fix: {below: [axis, value]} | {above: [axis, value]} | {group: NAME} (deformable),\n"
          "     move: {velocity: [..]} (rigid: a platen) | {velocity: [..], below|above|group: ...} (deformable: nodes held at v),\n"

@@ -267,9 +267,8 @@ PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag) {
       const std::string what = "granular materials '" + rb->gmat_names[a] + "' and '" + rb->gmat_names[b] + "'";
       try {
         table[(size_t)a * n + b] = fdem::kernels::MixGranular(rb->gmats[a], rb->gmats[b], what.c_str());
-      } catch (const std::exception &e) {
-        if (a == b) SETERRQ(rb->comm, PETSC_ERR_USER_INPUT, "%s", e.what()); // a material alone must make a law
-        table[(size_t)a * n + b] = GranularPair{};                          // empty: an error if they meet
+      } catch (const std::exception &) {
+        table[(size_t)a * n + b] = GranularPair{}; // empty: an error names the bodies if a sphere meets them
       }
     }
   rb->gtable   = table;

@@ -3,6 +3,7 @@
 #include "fdem/kernels/granular.hpp"
 
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "fdem/kernels/error.hpp"
@@ -100,6 +101,10 @@ double HertzRestitution(double alpha) {
 double HertzDampingForRestitution(double e) {
   if (!(e > 0 && e <= 1)) throw InputError("HertzDampingForRestitution: restitution " + std::to_string(e) + " is not in (0, 1]");
   if (e == 1) return 0;
+  // a root search of some 40 integrations of the impact: each restitution once per process
+  static std::map<double, double> known;
+  const auto                      it0 = known.find(e);
+  if (it0 != known.end()) return it0->second;
   double lo = 0, hi = 1;
   while (HertzRestitution(hi) > e) {
     hi *= 2;
@@ -109,7 +114,7 @@ double HertzDampingForRestitution(double e) {
     const double mid = 0.5 * (lo + hi);
     (HertzRestitution(mid) > e ? lo : hi) = mid;
   }
-  return 0.5 * (lo + hi);
+  return known[e] = 0.5 * (lo + hi);
 }
 
 double HookeDampingForRestitution(double e, double kn, double mstar) {
