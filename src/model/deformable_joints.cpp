@@ -231,16 +231,30 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
                             (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
   }
   PetscCall(BringTrianglesB(d, xl));
-  const std::size_t nj = d->jnode_a.size();
-  for (std::size_t j = 0; j < nj; ++j) {
-    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
-    JointTriangles(d, xl, j, xa, xb);
-    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdiss[j]);
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) {
-        fl[3 * d->jnode_a[j][i] + k] += fa[i][k];
-        d->jfb[9 * j + 3 * i + k] = fb[i][k];
-      }
+  // a block of joints at a time (JointBlockForces): gathered component-major, the forces on
+  // A added to the local nodes in joint order, B's (their negatives) sent back through the SF
+  const std::size_t          nj = d->jnode_a.size();
+  fdem::kernels::JointBlock B;
+  for (std::size_t j0 = 0; j0 < nj; j0 += fdem::kernels::kJointBlock) {
+    B.n = (int)std::min<std::size_t>(fdem::kernels::kJointBlock, nj - j0);
+    for (int b = 0; b < B.n; ++b) {
+      const std::size_t j = j0 + b;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          B.xa[3 * i + k][b] = xl[3 * d->jnode_a[j][i] + k];
+          B.xb[3 * i + k][b] = d->jxb[9 * j + 3 * i + k];
+        }
+      B.law[b] = &d->jlaw[j], B.state[b] = d->jstate[j].data(), B.dissipated[b] = &d->jdiss[j];
+    }
+    fdem::kernels::JointBlockForces(B);
+    for (int b = 0; b < B.n; ++b) {
+      const std::size_t j = j0 + b;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          fl[3 * d->jnode_a[j][i] + k] += B.fa[3 * i + k][b];
+          d->jfb[9 * j + 3 * i + k] = -B.fa[3 * i + k][b];
+        }
+    }
   }
   PetscCall(PetscSFReduceBegin(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
   PetscCall(PetscSFReduceEnd(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
