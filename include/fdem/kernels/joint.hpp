@@ -112,7 +112,7 @@ double JointElementEnergy(const JointLaw &law, const double xa[3][3], const doub
 // with their coordinates component-major, so that the geometry, the law of the common
 // point (undamaged, below both peaks) and the forces run two joints per SSE2 instruction;
 // the other points go through JointTractionAt one by one. Each joint's forces and history
-// are those of JointElementForces on it (the same operations, so the same numbers).
+// are those of JointElementForces on it, which is a block of one.
 inline constexpr int kJointBlock = 16;
 struct JointBlock {
   int                n = 0;                 // joints in the block, <= kJointBlock
