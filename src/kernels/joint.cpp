@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <fdem/kernels/error.hpp>
 
@@ -138,91 +141,159 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
 namespace fdem::kernels {
 
 namespace {
-// The geometry of a joint element at its three points (the edge midpoints): the unit
-// normal of the mid-surface, each point's weight (a third of its area), opening, slip
-// vector and slip. false when the mid-surface has collapsed (it carries nothing).
-struct JointPoints {
-  double n[3], w, dn[3], sv[3][3], s[3];
-  bool   Set(const double xa[3][3], const double xb[3][3]) {
-    double m[3][3], d[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) m[i][k] = 0.5 * (xa[i][k] + xb[i][k]), d[i][k] = xb[i][k] - xa[i][k];
-    const double e1[3] = {m[1][0] - m[0][0], m[1][1] - m[0][1], m[1][2] - m[0][2]};
-    const double e2[3] = {m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]};
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    const double twiceA = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(twiceA > 0)) return false;
-    const double inv = 1.0 / twiceA;
-    for (double &c : n) c *= inv;
-    w = twiceA / 6.0;
-    for (int q = 0; q < 3; ++q) {
+constexpr int N = kJointBlock;
+// The square roots of v[0..n), in place, two an SSE2 instruction (v 16-byte aligned): the
+// same IEEE roots as std::sqrt, which gcc does not vectorise (it keeps errno).
+inline void SqrtInPlace(double *v, int n) {
+  int i = 0;
+#if defined(__SSE2__)
+  for (; i + 1 < n; i += 2) _mm_store_pd(v + i, _mm_sqrt_pd(_mm_load_pd(v + i)));
+#endif
+  for (; i < n; ++i) v[i] = std::sqrt(v[i]);
+}
+// The geometry of a block of joint elements at their three points (the edge midpoints),
+// component-major so that the loop runs two joints per SSE2 instruction: the unit normal
+// of the mid-surface, each point's weight (a third of its area), opening, slip vector and
+// slip; ok = 0 where the mid-surface has collapsed (it carries nothing).
+struct BlockGeometry {
+  alignas(16) double n[3][N], w[N], ok[N], dn[3][N], sv[3][3][N], s[3][N];
+  // The square roots are taken apart (SqrtInPlace), so that the loops between them hold
+  // only arithmetic.
+  void Set(const JointBlock &B) {
+    const int          nb = B.n;
+    alignas(16) double nn[3][N], twiceA[N], sep[3][3][N];
+    for (int b = 0; b < nb; ++b) {
+      double m[9], d[9];
+      for (int c = 0; c < 9; ++c) m[c] = 0.5 * (B.xa[c][b] + B.xb[c][b]), d[c] = B.xb[c][b] - B.xa[c][b];
+      const double e1[3] = {m[3] - m[0], m[4] - m[1], m[5] - m[2]};
+      const double e2[3] = {m[6] - m[0], m[7] - m[1], m[8] - m[2]};
+      nn[0][b] = e1[1] * e2[2] - e1[2] * e2[1], nn[1][b] = e1[2] * e2[0] - e1[0] * e2[2], nn[2][b] = e1[0] * e2[1] - e1[1] * e2[0];
+      twiceA[b] = nn[0][b] * nn[0][b] + nn[1][b] * nn[1][b] + nn[2][b] * nn[2][b];
       // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
-      const int i = q, j = (q + 1) % 3;
-      double    sep[3];
-      for (int k = 0; k < 3; ++k) sep[k] = 0.5 * (d[i][k] + d[j][k]);
-      dn[q] = sep[0] * n[0] + sep[1] * n[1] + sep[2] * n[2];
-      for (int k = 0; k < 3; ++k) sv[q][k] = sep[k] - dn[q] * n[k];
-      s[q] = std::sqrt(sv[q][0] * sv[q][0] + sv[q][1] * sv[q][1] + sv[q][2] * sv[q][2]);
+      for (int q = 0; q < 3; ++q)
+        for (int k = 0; k < 3; ++k) sep[q][k][b] = 0.5 * (d[3 * q + k] + d[3 * ((q + 1) % 3) + k]);
     }
-    return true;
+    SqrtInPlace(twiceA, nb);
+    for (int b = 0; b < nb; ++b) {
+      const double inv = 1.0 / twiceA[b]; // inf or NaN where collapsed: dropped through ok
+      ok[b] = twiceA[b] > 0 ? 1.0 : 0.0;
+      for (int k = 0; k < 3; ++k) n[k][b] = nn[k][b] * inv;
+      w[b] = twiceA[b] / 6.0;
+      for (int q = 0; q < 3; ++q) {
+        const double o = sep[q][0][b] * n[0][b] + sep[q][1][b] * n[1][b] + sep[q][2][b] * n[2][b];
+        dn[q][b]       = o;
+        for (int k = 0; k < 3; ++k) sv[q][k][b] = sep[q][k][b] - o * n[k][b];
+        s[q][b] = sv[q][0][b] * sv[q][0][b] + sv[q][1][b] * sv[q][1][b] + sv[q][2][b] * sv[q][2][b];
+      }
+    }
+    for (int q = 0; q < 3; ++q) SqrtInPlace(s[q], nb);
   }
 };
 } // namespace
 
-double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
-  JointPoints P;
-  if (!P.Set(xa, xb)) return 0; // a collapsed mid-surface carries nothing
-  double        Dmax = 0, diss = 0;
-  JointTraction t3[3];
-  for (int q = 0; q < 3; ++q) {
-    JointTraction &t = t3[q];
-    if (state[q].D == 0 && P.dn[q] <= L.dn_peak && !state[q].broken) {
-      // the common case, an undamaged point below the tensile peak: the law of
-      // JointTractionAt without the damage update, with the law's reciprocals (the same
-      // tractions to round-off)
-      const double dn = P.dn[q], x = dn * L.inv_dn_peak;
-      const double sigma0 = dn <= 0 ? 2.0 * L.ft * x : L.ft * x * (2.0 - x);
-      const double fs     = dn <= 0 ? L.c - sigma0 * L.tan_phi : L.c; // > 0: compression only adds
-      const double sp     = fs * L.slip_per_strength;
-      if (P.s[q] <= sp) {
-        const double y = P.s[q] / sp;
-        t              = JointTraction();
-        t.sigma        = sigma0;
-        t.tau          = fs * y * (2.0 - y);
-      } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
-    } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
-    Dmax = std::max(Dmax, t.D);
-    diss += P.w * t.dissipated;
+void JointBlockForces(JointBlock &B) {
+  const int     nb = B.n;
+  BlockGeometry G;
+  G.Set(B);
+  // the law's constants and the points' history, component-major
+  alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], undamaged[3][N];
+  for (int b = 0; b < nb; ++b) {
+    const JointLaw &L = *B.law[b];
+    ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0;
   }
-  const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
-  for (int q = 0; q < 3; ++q) {
-    const int     i = q, j = (q + 1) % 3;
-    JointTraction t = t3[q];
-    if (all_broken) break; // the faces are contact surfaces now
+  // The common case for every point, two joints an instruction: an undamaged point below
+  // both peaks is elastic, and its tractions are the law of JointTractionAt without the
+  // damage update, with the law's reciprocals (the same tractions to round-off). fast = 0
+  // marks the points that need JointTractionAt (done one by one below).
+  alignas(16) double sigma[3][N], tau[3][N], fast[3][N];
+  for (int q = 0; q < 3; ++q)
+    for (int b = 0; b < nb; ++b) {
+      // each choice as a blend with the factors 1 and 0, exact for finite values (gcc does not
+      // vectorise a choice between computed values here: it moves their arithmetic into branches)
+      const double dn = G.dn[q][b], x = dn * inv_dn_peak[b];
+      const double pressed  = dn <= 0 ? 1.0 : 0.0, pulled = 1.0 - pressed;
+      const double sigma0   = pressed * (two_ft[b] * x) + pulled * (ft[b] * x * (2.0 - x));
+      const double fs       = c[b] - pressed * (sigma0 * tan_phi[b]); // > 0: compression only adds
+      const double sp       = fs * slip_per_strength[b];
+      const double y        = G.s[q][b] / sp;
+      sigma[q][b] = sigma0;
+      tau[q][b]   = fs * y * (2.0 - y);
+      fast[q][b]  = (undamaged[q][b] != 0) & (dn <= dn_peak[b]) & (G.s[q][b] <= sp) ? 1.0 : 0.0;
+    }
+  // the other points, one at a time: damage, softening, broken points
+  for (int b = 0; b < nb; ++b) {
+    B.Dmax[b] = 0;
+    if (G.ok[b] == 0) continue; // a collapsed mid-surface carries nothing and keeps its history
+    if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) continue;
+    const JointLaw &L     = *B.law[b];
+    JointState     *state = B.state[b];
+    double          diss  = 0;
+    for (int q = 0; q < 3; ++q) {
+      if (fast[q][b] != 0) continue;
+      const JointTraction t = JointTractionAt(L, G.dn[q][b], G.s[q][b], state[q]);
+      B.Dmax[b] = std::max(B.Dmax[b], t.D);
+      diss += G.w[b] * t.dissipated;
+      sigma[q][b] = t.sigma, tau[q][b] = t.tau;
+    }
+    if (B.dissipated[b]) *B.dissipated[b] += diss;
+    if (state[0].broken && state[1].broken && state[2].broken) {
+      G.ok[b] = 0; // the faces are contact surfaces now
+      continue;
+    }
     // A broken point of a joint that still holds (its other points intact) is not a contact
     // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
     // other and meet the contact engine deeply overlapped when the joint breaks through.
-    if (state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0;
-    double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
-    for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
-    for (int k = 0; k < 3; ++k) {
-      const double f = 0.5 * P.w * tr[k];
-      fa[i][k] += f, fa[j][k] += f;
-      fb[i][k] -= f, fb[j][k] -= f;
-    }
+    for (int q = 0; q < 3; ++q)
+      if (state[q].broken) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
   }
-  if (dissipated) *dissipated += diss;
-  return Dmax;
+  // the nodal forces, two joints an instruction: the traction on A (towards B; it pulls the
+  // faces together when they open) at point q, times half its weight, on each node of its
+  // edge (q, q+1); node i gets points i and i-1
+  for (int b = 0; b < nb; ++b) {
+    double f[3][3];
+    for (int q = 0; q < 3; ++q) {
+      // the slip's direction sv / s where s > 0; a slip of 0 (sv = 0 unless its squares
+      // underflowed) adds nothing: divided by 1 and dropped by the factor 0
+      const double slipping = G.s[q][b] > 0 ? 1.0 : 0.0, s = slipping != 0 ? G.s[q][b] : 1.0;
+      const double r = slipping * (tau[q][b] / s);
+      for (int k = 0; k < 3; ++k) {
+        const double tr = sigma[q][b] * G.n[k][b] + r * G.sv[q][k][b];
+        f[q][k]         = 0.5 * G.w[b] * tr;
+      }
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) B.fa[3 * i + k][b] = f[i][k] + f[(i + 2) % 3][k];
+  }
+  for (int b = 0; b < nb; ++b)
+    if (G.ok[b] == 0)
+      for (int c = 0; c < 9; ++c) B.fa[c][b] = 0; // collapsed, or every point broken
+}
+
+double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
+  JointBlock B;
+  B.n = 1, B.law[0] = &L, B.state[0] = state, B.dissipated[0] = dissipated;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) B.xa[3 * i + k][0] = xa[i][k], B.xb[3 * i + k][0] = xb[i][k];
+  JointBlockForces(B);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) fa[i][k] += B.fa[3 * i + k][0], fb[i][k] -= B.fa[3 * i + k][0];
+  return B.Dmax[0];
 }
 
 double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
-  JointPoints P;
-  if (!P.Set(xa, xb)) return 0;
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
+  JointBlock B;
+  B.n = 1;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) B.xa[3 * i + k][0] = xa[i][k], B.xb[3 * i + k][0] = xb[i][k];
+  BlockGeometry G;
+  G.Set(B);
+  if (G.ok[0] == 0) return 0;
   double e = 0;
   for (int q = 0; q < 3; ++q)
-    if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
-    else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak; // the compression penalty it keeps
+    if (!state[q].broken) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q].D);
+    else if (G.dn[q][0] < 0) e += G.w[0] * L.ft * G.dn[q][0] * G.dn[q][0] / L.dn_peak; // the compression penalty it keeps
   return e;
 }
 

@@ -1,8 +1,9 @@
 // Deformable bodies, fracture joints (doc/fracture.md): the bodies of a
 // fracturable material are split at set-up (every tetrahedron its own nodes,
 // a joint on every face two of them shared); each joint is computed by the
-// rank that holds its tetrahedron a, which gets the coordinates of triangle
-// b's nodes through one PetscSF and returns their forces through it.
+// rank that holds its tetrahedron a, which reads triangle b's nodes in place
+// when they are on that rank too, and otherwise gets their coordinates through
+// a PetscSF and returns their forces through it.
 #include "../util/guard.hpp"
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
@@ -169,19 +170,26 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCallMPI(MPI_Scatterv(ibuf.data(), icnt.data(), ioff.data(), MPIU_INT, imine.data(), NI * mycnt, MPIU_INT, 0, d->comm));
   PetscCallMPI(MPI_Scatterv(rbuf.data(), rcnt.data(), roff.data(), MPIU_REAL, rmine.data(), NR * mycnt, MPIU_REAL, 0, d->comm));
   d->jnode_a.resize(mycnt);
+  d->jnode_b.resize(mycnt);
   d->jlaw.resize(mycnt);
   d->jstate.assign(mycnt, {});
   d->jgid.resize(mycnt);
   d->jdiss.assign(mycnt, 0);
-  std::vector<PetscSFNode> remote(9 * (size_t)mycnt);
+  std::vector<PetscSFNode> remote(9 * (size_t)mycnt), remote_only;
+  std::vector<PetscInt>    remote_leaf; // where remote_only's leaves are in jxb
   for (PetscMPIInt j = 0; j < mycnt; ++j) {
     const PetscInt *I = &imine[NI * (size_t)j];
     d->jgid[j]        = I[7];
     for (int i = 0; i < 3; ++i) {
       d->jnode_a[j][i] = (int)I[i];
+      d->jnode_b[j][i] = I[3] == d->rank ? (int)I[4 + i] : -1;
       for (int k = 0; k < 3; ++k) {
         remote[9 * (size_t)j + 3 * i + k].rank  = (PetscInt)I[3];
         remote[9 * (size_t)j + 3 * i + k].index = 3 * I[4 + i] + k;
+        if (I[3] != d->rank) {
+          remote_only.push_back(remote[9 * (size_t)j + 3 * i + k]);
+          remote_leaf.push_back(9 * (PetscInt)j + 3 * i + k);
+        }
       }
     }
     std::copy(&rmine[NR * (size_t)j], &rmine[NR * (size_t)j] + NR, reinterpret_cast<double *>(&d->jlaw[j]));
@@ -189,17 +197,22 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCall(PetscSFCreate(d->comm, &d->jsf));
   PetscCall(PetscSFSetGraph(d->jsf, 3 * d->nlocal, 9 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
   PetscCall(PetscSFSetUp(d->jsf));
+  // the joint forces read and write a triangle b on this rank in place, and send only the others
+  PetscCall(PetscSFCreate(d->comm, &d->jsf_remote));
+  PetscCall(PetscSFSetGraph(d->jsf_remote, 3 * d->nlocal, (PetscInt)remote_only.size(), remote_leaf.data(), PETSC_COPY_VALUES, remote_only.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetUp(d->jsf_remote));
   d->jxb.assign(9 * (size_t)mycnt, 0);
   d->jfb.assign(9 * (size_t)mycnt, 0);
   PetscFunctionReturn(0);
 }
 
-// Brings the coordinates of every local joint's triangle b from its rank (d->jxb), from
-// the local positions xl; collective.
-static PetscErrorCode BringTrianglesB(FDEMDeformable d, const PetscScalar *xl) {
+// Brings the coordinates of the local joints' triangles b from their ranks (d->jxb), from
+// the local positions xl, through sf: d->jsf (every joint) or d->jsf_remote (the joints
+// whose triangle b is on another rank); collective.
+static PetscErrorCode BringTrianglesB(FDEMDeformable d, PetscSF sf, const PetscScalar *xl) {
   PetscFunctionBegin;
-  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastBegin(sf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, MPIU_SCALAR, xl, d->jxb.data(), MPI_REPLACE));
   PetscFunctionReturn(0);
 }
 
@@ -230,20 +243,36 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
                             "WARNING fdem joints: the joints' frequency omega_j = %g (estimated from the joint penalty and the nodal masses; see doc/fracture.md) makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g or the joint penalty\n",
                             (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
   }
-  PetscCall(BringTrianglesB(d, xl));
-  const std::size_t nj = d->jnode_a.size();
-  for (std::size_t j = 0; j < nj; ++j) {
-    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
-    JointTriangles(d, xl, j, xa, xb);
-    fdem::kernels::JointElementForces(d->jlaw[j], xa, xb, d->jstate[j].data(), fa, fb, &d->jdiss[j]);
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) {
-        fl[3 * d->jnode_a[j][i] + k] += fa[i][k];
-        d->jfb[9 * j + 3 * i + k] = fb[i][k];
-      }
+  PetscCall(BringTrianglesB(d, d->jsf_remote, xl));
+  // a block of joints at a time (JointBlockForces): gathered component-major, the forces on
+  // A added to the local nodes in joint order, and B's (their negatives) too where triangle
+  // b is on this rank, else sent back through the SF
+  const std::size_t          nj = d->jnode_a.size();
+  fdem::kernels::JointBlock B;
+  for (std::size_t j0 = 0; j0 < nj; j0 += fdem::kernels::kJointBlock) {
+    B.n = (int)std::min<std::size_t>(fdem::kernels::kJointBlock, nj - j0);
+    for (int b = 0; b < B.n; ++b) {
+      const std::size_t j = j0 + b;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          B.xa[3 * i + k][b] = xl[3 * d->jnode_a[j][i] + k];
+          B.xb[3 * i + k][b] = d->jnode_b[j][0] >= 0 ? xl[3 * d->jnode_b[j][i] + k] : d->jxb[9 * j + 3 * i + k];
+        }
+      B.law[b] = &d->jlaw[j], B.state[b] = d->jstate[j].data(), B.dissipated[b] = &d->jdiss[j];
+    }
+    fdem::kernels::JointBlockForces(B);
+    for (int b = 0; b < B.n; ++b) {
+      const std::size_t j = j0 + b;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          fl[3 * d->jnode_a[j][i] + k] += B.fa[3 * i + k][b];
+          if (d->jnode_b[j][0] >= 0) fl[3 * d->jnode_b[j][i] + k] -= B.fa[3 * i + k][b];
+          else d->jfb[9 * j + 3 * i + k] = -B.fa[3 * i + k][b];
+        }
+    }
   }
-  PetscCall(PetscSFReduceBegin(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
-  PetscCall(PetscSFReduceEnd(d->jsf, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
+  PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
+  PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
   PetscFunctionReturn(0);
 }
 
@@ -258,7 +287,7 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
     PetscCall(LocalPositions(d, sv.xa, nullptr));
     PetscCall(sv.Restore());
     PetscCall(VecGetArrayRead(d->xloc, &xl));
-    PetscCall(BringTrianglesB(d, xl));
+    PetscCall(BringTrianglesB(d, d->jsf, xl));
     for (std::size_t j = 0; j < d->jnode_a.size(); ++j) {
       double xa[3][3], xb[3][3];
       JointTriangles(d, xl, j, xa, xb);
@@ -362,6 +391,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
 PetscErrorCode fdem::model::deformable::DestroyJoints(FDEMDeformable d) {
   PetscFunctionBegin;
   PetscCall(PetscSFDestroy(&d->jsf));
+  PetscCall(PetscSFDestroy(&d->jsf_remote));
   PetscFunctionReturn(0);
 }
 

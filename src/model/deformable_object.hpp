@@ -94,6 +94,8 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
   std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J
   PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
+  std::vector<std::array<int, 3>>         jnode_b;        // local nodes of triangle b where it is on this rank, else -1
+  PetscSF                                 jsf_remote = nullptr; // jsf's leaves of the joints whose triangle b is on another rank only
   std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
 };
 

@@ -108,4 +108,22 @@ double JointElementForces(const JointLaw &law, const double xa[3][3], const doub
 // at its three points, each weighing a third of the mid-surface area); no state change.
 double JointElementEnergy(const JointLaw &law, const double xa[3][3], const double xb[3][3], const JointState state[3]);
 
+// Joint elements a block at a time (the deformable model's loop): up to kJointBlock joints
+// with their coordinates component-major, so that the geometry, the law of the common
+// point (undamaged, below both peaks) and the forces run two joints per SSE2 instruction;
+// the other points go through JointTractionAt one by one. Each joint's forces and history
+// are those of JointElementForces on it, which is a block of one.
+inline constexpr int kJointBlock = 16;
+struct JointBlock {
+  int                n = 0;                 // joints in the block, <= kJointBlock
+  alignas(16) double xa[9][kJointBlock];    // in: triangle A, node i component k at [3 i + k][joint]
+  alignas(16) double xb[9][kJointBlock];    // in: triangle B, the same
+  const JointLaw    *law[kJointBlock];      // in: each joint's law
+  JointState        *state[kJointBlock];    // in/out: each joint's 3 points
+  double            *dissipated[kJointBlock]; // in/out: nullptr, or where the joint's dissipated energy (J) is added
+  alignas(16) double fa[9][kJointBlock];    // out: the forces on A's nodes, as xa; B's are their negatives
+  double             Dmax[kJointBlock];     // out: each joint's largest damage (as JointElementForces returns)
+};
+void JointBlockForces(JointBlock &block);
+
 } // namespace fdem::kernels
