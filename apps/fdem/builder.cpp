@@ -82,6 +82,8 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
     if (m.young > 0) g.young = m.young, g.poisson = m.poisson;
     g.kn               = m.kn;
     g.kt               = m.kt >= 0 ? m.kt : (m.kn > 0 ? 2.0 / 7.0 * m.kn : -1);
+    g.gamma_n          = m.gamma_n;
+    g.gamma_t          = m.gamma_t >= 0 ? m.gamma_t : (m.gamma_n > 0 ? 0.5 * m.gamma_n : -1); // LAMMPS's default: half of gamma_n
     g.restitution      = m.restitution;
     g.friction         = m.friction;
     g.rolling_friction = m.rolling_friction;

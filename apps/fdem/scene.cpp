@@ -134,7 +134,7 @@ private:
 
 const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "bodies", "generate", "output", "checkpoint", "petsc"};
 const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
-const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture", "restitution", "friction", "rolling_friction", "contact_law", "kn", "kt"};
+const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture", "restitution", "friction", "rolling_friction", "contact_law", "kn", "kt", "gamma_n", "gamma_t"};
 const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
@@ -166,6 +166,9 @@ Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node
   if (n["contact_law"]) m.contact_law = r.Choice(n["contact_law"], w + ".contact_law", {"hertz", "hooke"});
   if (n["kn"]) m.kn = r.Positive(n["kn"], w + ".kn");
   if (n["kt"]) m.kt = r.NonNegative(n["kt"], w + ".kt");
+  if (n["gamma_n"]) m.gamma_n = r.NonNegative(n["gamma_n"], w + ".gamma_n");
+  if (n["gamma_t"]) m.gamma_t = r.NonNegative(n["gamma_t"], w + ".gamma_t");
+  if ((n["gamma_n"] || n["gamma_t"]) && m.contact_law != "hooke") r.Fail(n["gamma_n"] ? n["gamma_n"] : n["gamma_t"], w + ": gamma_n and gamma_t (damping rates, 1/s) belong to contact_law: hooke; the Hertz law takes restitution");
   if (m.contact_law == "hooke" && !n["kn"]) r.Fail(n["contact_law"], w + ".contact_law: hooke needs kn (N/m), the normal stiffness");
   if (m.contact_law == "hertz" && !(n["young"] && n["poisson"])) r.Fail(n["contact_law"], w + ".contact_law: hertz needs young and poisson");
   if (n["fracture"]) {
@@ -517,7 +520,7 @@ const char *SceneKeysHelp() {
          "  materials: {NAME: {density: kg/m^3, young: Pa, poisson: (-1, 0.5), model: finite_strain|neo_hookean|small_strain, damping: Pa s,\n"
          "                     fracture: {tensile_strength: Pa, cohesion: Pa, friction_angle: degrees, G_I: J/m^2, G_II: J/m^2, joint_penalty: Pa}}}\n"
          "             (fracture: makes the deformable bodies of the material fracturable: a joint on every interior face)\n"
-         "             granular contact of spheres: restitution: (0, 1], friction: mu, rolling_friction: mu_r, contact_law: hertz|hooke, kn: N/m, kt: N/m\n"
+         "             granular contact of spheres: restitution: (0, 1], friction: mu, rolling_friction: mu_r, contact_law: hertz|hooke, kn: N/m, kt: N/m, gamma_n: 1/s, gamma_t: 1/s\n"
          "  contact: {penalty: Pa (required), friction: mu, normal_damping: Pa s/m, tangential_viscosity: Pa s/m, buffer: m | auto}\n"
          "  bodies: list of\n"
          "    {name, model: rigid|deformable|sphere (shape {sphere: r})|auto (fdem chooses; fdem check shows why), material, shape, resolution: element size,\n"

@@ -35,7 +35,7 @@ struct Material {
   Fracture    fracture;
   // granular contact of spheres (doc/spheres.md); < 0: not given
   std::string contact_law; // "hertz" | "hooke" | "" (not given)
-  double      restitution = -1, friction = -1, rolling_friction = -1, kn = -1, kt = -1;
+  double      restitution = -1, friction = -1, rolling_friction = -1, kn = -1, kt = -1, gamma_n = -1, gamma_t = -1;
   Where       where;
 };
 

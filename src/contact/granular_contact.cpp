@@ -84,12 +84,11 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     std::vector<int>         hoff(nl_, -1);
     std::vector<HistorySlot> old;
     auto                     slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
+    int nh = 0;
     for (const auto *list : {&ss_, &st_})
       for (const auto &p : *list)
-        if (hoff[p[0]] < 0) {
-          hoff[p[0]] = (int)old.size();
-          old.resize(old.size() + kHistorySlots);
-        }
+        if (hoff[p[0]] < 0) hoff[p[0]] = kHistorySlots * nh++;
+    old.resize((size_t)kHistorySlots * nh);
     for (int i = 0; i < nl_; ++i) {
       if (prim_[i].shape != kSphere) continue;
       HistorySlot *h = slots(i);

@@ -126,6 +126,7 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
         continue;
       }
       for (int k = 0; k < 3; ++k) x[k] += s * v[k];
+      if (rb->sphere[b] && !rb->sphere_orientation) continue; // a sphere's contacts do not see its orientation (omega = H / I all the same)
       const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
       ToRowMajor(fdem::kernels::FreeRotate(kind, FromRowMajor(R), I, Vec3(H[0], H[1], H[2]), s), R);
     }
@@ -291,6 +292,7 @@ PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscOptionsBegin(rb->comm, nullptr, "fdem rigid bodies", "FDEMRigid");
   PetscCall(PetscOptionsEnum("-fdem_rigid_rotation", "Free rotation of the drift: munjiza (book 5.2.10, order 2), nosquish (symplectic, order 2), exact (Jacobi elliptic)", "FDEMRigidSetRotationType",
                              FDEMRotationTypes, (PetscEnum)rb->rotation, (PetscEnum *)&rb->rotation, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_rigid_sphere_orientation", "Turn the spheres' orientation R with their spin (for output; their contacts do not need it)", "FDEMRigidAddSphere", rb->sphere_orientation, &rb->sphere_orientation, nullptr));
   PetscCall(PetscOptionsRealArray("-fdem_rigid_gravity", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g, &three, &flg));
   PetscCheck(!flg || three == 3, rb->comm, PETSC_ERR_ARG_SIZ, "-fdem_rigid_gravity takes three numbers gx,gy,gz; got %" PetscInt_FMT, three);
   PetscOptionsEnd();
@@ -484,6 +486,8 @@ PetscErrorCode fdem::model::RigidLoadState(FDEMRigid rb, PetscScalar *u) {
   rb->inertia.assign(f.I, f.I + 3 * n);
   rb->ids.assign(f.id, f.id + n);
   rb->fixed.assign(f.fixed, f.fixed + n);
+  rb->sphere.assign(n, 0);
+  for (PetscInt b = 0; b < n; ++b) rb->sphere[b] = f.skin[b] == kSphereSkin;
   for (PetscInt b = 0; b < n; ++b) {
     for (int k = 0; k < 3; ++k) {
       L.x(u, b)[k] = f.x[3 * b + k];

@@ -96,6 +96,8 @@ struct _n_FDEMRigid {
   std::vector<OutputRecord> outputs;
   // fixed bodies (walls, floors): never moved by forces
   std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed or moved)
+  std::vector<char>     sphere;     // per local body while a TS runs: a sphere
+  PetscBool             sphere_orientation = PETSC_FALSE; // turn the spheres' R too (-fdem_rigid_sphere_orientation)
   // moved bodies (FDEMRigidMoveBody): fixed bodies with a held velocity; the power of their
   // reactions at the last force evaluation (this rank) and its time integral
   PetscReal              power = 0;

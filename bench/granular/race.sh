@@ -1,0 +1,36 @@
+#!/bin/sh
+# The dense-bed race at the level of the driver: the fdem scene of
+# make_bed.py (spheres in the rigid model's DMSwarm, the TS, the contact
+# engine) against LAMMPS's in.bed (the same packing, law, dt and skin), on 1
+# and 2 ranks, in interleaved rounds. Prints particle-steps per second per core
+# of each (wall clock of the time stepping: fdem's "stepping" time, LAMMPS's
+# "Loop time"), fdem/LAMMPS, and the coordination number of each at the end
+# (2 x touching pairs / spheres): both start from LAMMPS's initial state
+# (written by in.bed with -var dumpv), so they should agree to the chaos of
+# a dense packing.
+# Usage: race.sh FDEM_BUILD_DIR [cells=10] [steps=1000] [rounds=3]
+set -e
+here=$(cd "$(dirname "$0")" && pwd)
+build=${1:?build directory}; cells=${2:-10}; steps=${3:-1000}; rounds=${4:-3}
+command -v lmp >/dev/null || { echo "lmp not found (apt-get install lammps)"; exit 1; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+tmp=$(mktemp -d)
+lmp -in "$here/in.bed" -var cells "$cells" -var steps 0 -var dumpv 1 -var dumpfile "$tmp/start.dump" -log none > /dev/null 2>&1
+python3 "$here/make_bed.py" "$cells" "$steps" --from "$tmp/start.dump" > "$tmp/bed.yaml" # the same start as LAMMPS
+n=$((4 * cells * cells * cells))
+r=1
+while [ $r -le "$rounds" ]; do
+  for np in 1 2; do
+    f=$(mpiexec -n $np "$build/apps/fdem/fdem" "$tmp/bed.yaml" -fdem_output none -fdem_progress 0 2>&1)
+    ft=$(echo "$f" | sed -n 's/.*stepping \([0-9.e+-]*\) s:.*/\1/p')
+    ftouch=$(echo "$f" | sed -n 's/.*last evaluation \([0-9]*\) touching.*/\1/p')
+    l=$(mpiexec -n $np lmp -in "$here/in.bed" -var cells "$cells" -var steps "$steps" -log none 2>&1)
+    lt=$(echo "$l" | awk '/^Loop time/{print $4}')
+    lcm=$(echo "$l" | awk '/^ *Step/{getline; getline; print $4}')
+    echo "$n $steps $np $ft $ftouch $lt $lcm" | awk -v r=$r '{
+      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$6/np;
+      printf "round %d, %d rank(s), %d spheres: fdem %.3g, LAMMPS %.3g particle-steps/s/core, fdem/LAMMPS %.2f; coordination fdem %.3f, LAMMPS %.3f\n", r, np, n, fps, lps, fps/lps, 2*$5/n, $7 }'
+  done
+  r=$((r + 1))
+done
+rm -rf "$tmp"
