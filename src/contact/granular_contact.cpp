@@ -81,9 +81,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
   PetscInt overflow = 0;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     // 1. this engine's springs of every own sphere: those of a holder kept aside, all cleared
-    std::vector<int>         hoff(nl_, -1);
-    std::vector<HistorySlot> old;
-    auto                     slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
+    std::vector<int>           hoff(nl_, -1);
+    std::vector<HistorySlot>   old;
+    std::vector<HistorySlot *> hp(nl_, nullptr); // each own sphere's slots
+    auto                       slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
     int nh = 0;
     for (const auto *list : {&ss_, &st_})
       for (const auto &p : *list)
@@ -91,7 +92,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     old.resize((size_t)kHistorySlots * nh);
     for (int i = 0; i < nl_; ++i) {
       if (prim_[i].shape != kSphere) continue;
-      HistorySlot *h = slots(i);
+      HistorySlot *h = hp[i] = slots(i);
       if (!h) continue;
       for (int k = 0; k < kHistorySlots; ++k) {
         if (!h[k].key || SlotTag(h[k].key) != gtag_) continue;
@@ -108,7 +109,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       return s;
     };
     auto keep = [&](int i, std::int64_t key, const Vec3 &s) {
-      HistorySlot *h = slots(i);
+      HistorySlot *h = hp[i];
       if (!h) return;
       for (int k = 0; k < kHistorySlots; ++k)
         if (!h[k].key) {
@@ -121,20 +122,31 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       if (!checked_initial_ && ratio > deep[0]) deep = {ratio, (double)a, (double)b};
     };
 
-    // 2. sphere-sphere: a is the holder (own), n from b to a
+    // 2. sphere-sphere: a is the holder (own), n from b to a. The centres, velocities and
+    //    spins in compact arrays (a sphere's Vertices record is 96 bytes), forces summed there.
+    const int         N = nl_ + ng_;
+    std::vector<Vec3> cx, cv, cw, cf, ct;
+    std::vector<char> cs;
+    if (!ss_.empty()) {
+      cx.resize(N), cv.resize(N), cw.resize(N), cf.assign(N, Vec3()), ct.assign(N, Vec3()), cs.assign(N, 0);
+      for (const auto &p : ss_)
+        for (int i : p)
+          if (!cs[i]) cs[i] = 1, cx[i] = X(i)[0], cv[i] = V(i)[0], cw[i] = V(i)[1];
+    }
     for (const auto &p : ss_) {
       const int        a = p[0], b = p[1];
       const Primitive &A = P(a), &B = P(b);
-      const Vec3       d    = X(a)[0] - X(b)[0];
-      const double     dist = norm(d), ov = A.radius + B.radius - dist;
-      if (!(ov > 0)) continue;
+      const Vec3       d  = cx[a] - cx[b];
+      const double     rr = A.radius + B.radius, d2 = dot(d, d);
+      if (!(d2 < rr * rr)) continue;
+      const double dist = std::sqrt(d2), ov = rr - dist;
       if (!(dist > 0)) throw std::runtime_error(adapters_[A.kind]->BodyName(A) + " and " + adapters_[B.kind]->BodyName(B) + " have the same centre");
       GranularPair        tmp;
       GranularContact     c;
       c.n       = (1.0 / dist) * d;
       c.overlap = ov;
-      c.vrel    = V(a)[0] - V(b)[0] - cross(A.radius * V(a)[1] + B.radius * V(b)[1], c.n);
-      c.wrel    = V(a)[1] - V(b)[1];
+      c.vrel    = cv[a] - cv[b] - cross(A.radius * cw[a] + B.radius * cw[b], c.n);
+      c.wrel    = cw[a] - cw[b];
       c.rstar   = A.radius * B.radius / (A.radius + B.radius);
       c.mstar   = EffectiveMass(A.mass, B.mass);
       const GranularPair  &law = ForContact(*Law(A, B), c.mstar, tmp);
@@ -142,15 +154,20 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       Vec3                 s   = take(a, key);
       const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
       keep(a, key, s);
-      const Vec3 F = r.fn + r.ft;
-      Force(a)[0] += F;
-      Force(a)[1] += cross(-A.radius * c.n, F) + r.mroll;
-      Force(b)[0] -= F;
-      Force(b)[1] += cross(B.radius * c.n, -1.0 * F) - r.mroll;
+      const Vec3 F = r.fn + r.ft, nxF = cross(c.n, F);
+      cf[a] += F;
+      ct[a] += r.mroll - A.radius * nxF;
+      cf[b] -= F;
+      ct[b] -= B.radius * nxF + r.mroll;
       sums[0] += ElasticEnergy(law, ov, c.rstar, s);
       sums[1] += 1;
       first(ov / (0.5 * std::min(A.radius, B.radius)), a, b); // deep: half the smaller radius
     }
+    for (int i = 0; i < (int)cs.size(); ++i)
+      if (cs[i]) {
+        Force(i)[0] += cf[i];
+        Force(i)[1] += ct[i];
+      }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
     //    triangles as one surface (one contact per touched face, edge or vertex)
