@@ -142,7 +142,7 @@ namespace {
 // normal of the mid-surface, each point's weight (a third of its area), opening, slip
 // vector and slip. false when the mid-surface has collapsed (it carries nothing).
 struct JointPoints {
-  double n[3], w, dn[3], sv[3][3], s[3];
+  double n[3], w, dn[3], sv[3][3], s[3], dnv[3]; // dnv: the opening at the vertices
   bool   Set(const double xa[3][3], const double xb[3][3]) {
     double m[3][3], d[3][3];
     for (int i = 0; i < 3; ++i)
@@ -155,6 +155,7 @@ struct JointPoints {
     const double inv = 1.0 / twiceA;
     for (double &c : n) c *= inv;
     w = twiceA / 6.0;
+    for (int i = 0; i < 3; ++i) dnv[i] = d[i][0] * n[0] + d[i][1] * n[1] + d[i][2] * n[2];
     for (int q = 0; q < 3; ++q) {
       // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
       const int i = q, j = (q + 1) % 3;
@@ -199,10 +200,20 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];
     if (all_broken) break; // the faces are contact surfaces now
-    // A broken point of a joint that still holds (its other points intact) is not a contact
-    // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
-    // other and meet the contact engine deeply overlapped when the joint breaks through.
-    if (state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0;
+    // Compression is taken at the vertices, each end of the point's edge with its own opening
+    // and half the point's weight (a nodal rule), whether the point is intact or broken: at the
+    // midpoint alone it would miss a corner pressed in while the rest of the face opens (a
+    // hinge), whose overlap the contact engine would find and push apart when the joint breaks
+    // through. A broken point of a joint that still holds keeps this penalty, so that its faces
+    // cannot pass through each other; the rule does not change when a point breaks.
+    for (const int v : {i, j}) {
+      const double dv = P.dnv[v];
+      if (!(dv < 0)) continue;
+      const double f = 0.5 * P.w * NormalUndamaged(L, dv); // on A, along n (< 0: away from B)
+      for (int k = 0; k < 3; ++k) fa[v][k] += f * P.n[k], fb[v][k] -= f * P.n[k];
+    }
+    if (state[q].broken) continue;
+    if (P.dn[q] <= 0) t.sigma = 0; // its compression is the vertices' above
     double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
     for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {
@@ -220,9 +231,12 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (!P.Set(xa, xb)) return 0;
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
   double e = 0;
-  for (int q = 0; q < 3; ++q)
-    if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
-    else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak; // the compression penalty it keeps
+  for (int q = 0; q < 3; ++q) {
+    // the law's energy without its compression term, which is taken at the vertices (JointElementForces)
+    if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
+    for (const int v : {q, (q + 1) % 3})
+      if (P.dnv[v] < 0) e += 0.5 * P.w * L.ft * P.dnv[v] * P.dnv[v] / L.dn_peak;
+  }
   return e;
 }
 
