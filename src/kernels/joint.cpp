@@ -168,6 +168,41 @@ struct JointPoints {
     return true;
   }
 };
+// The joint's compression over its face: with g_i = -dn_i the overlap at vertex i (> 0 where
+// B has passed through A) and g linear over the triangle of area A, the integral of
+// max(g, 0)^2 (m^4) and its derivatives dI/dg_i = 2 int max(g, 0) N_i dA (N_i the linear shape
+// functions). Exact: the triangle is clipped to g >= 0 (Sutherland-Hodgman in barycentric
+// coordinates) and the polygon fanned into triangles, on which products of linear functions
+// integrate as A'/12 (sum f_v h_v + sum f_v sum h_v). When every g_i >= 0 it is the midpoints'
+// rule (A/3) sum_q g_q^2 exactly, and its derivatives are the midpoints' forces.
+double OverlapSquared(const double g[3], double A, double dI[3]) {
+  dI[0] = dI[1] = dI[2] = 0;
+  if (!(g[0] > 0 || g[1] > 0 || g[2] > 0)) return 0;
+  struct V { double l[3], g; };
+  V poly[4], in[3];
+  for (int i = 0; i < 3; ++i) in[i] = V{{i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0}, g[i]};
+  int np = 0;
+  for (int i = 0; i < 3; ++i) {
+    const V &p = in[i], &q = in[(i + 1) % 3];
+    if (p.g >= 0) poly[np++] = p;
+    if ((p.g >= 0) != (q.g >= 0)) {
+      const double t = p.g / (p.g - q.g);
+      V &r = poly[np++];
+      for (int k = 0; k < 3; ++k) r.l[k] = p.l[k] + t * (q.l[k] - p.l[k]);
+      r.g = 0;
+    }
+  }
+  double I = 0;
+  for (int m = 1; m + 1 < np; ++m) {
+    const V &a = poly[0], &b = poly[m], &c = poly[m + 1];
+    // the sub-triangle's area over A: the determinant of its barycentric coordinates
+    const double r = std::fabs(a.l[0] * (b.l[1] * c.l[2] - b.l[2] * c.l[1]) - a.l[1] * (b.l[0] * c.l[2] - b.l[2] * c.l[0]) + a.l[2] * (b.l[0] * c.l[1] - b.l[1] * c.l[0]));
+    const double k = A * r / 12.0, sg = a.g + b.g + c.g;
+    I += k * (a.g * a.g + b.g * b.g + c.g * c.g + sg * sg);
+    for (int i = 0; i < 3; ++i) dI[i] += 2.0 * k * (a.g * a.l[i] + b.g * b.l[i] + c.g * c.l[i] + sg * (a.l[i] + b.l[i] + c.l[i]));
+  }
+  return I;
+}
 } // namespace
 
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
@@ -200,20 +235,8 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];
     if (all_broken) break; // the faces are contact surfaces now
-    // Compression is taken at the vertices, each end of the point's edge with its own opening
-    // and half the point's weight (a nodal rule), whether the point is intact or broken: at the
-    // midpoint alone it would miss a corner pressed in while the rest of the face opens (a
-    // hinge), whose overlap the contact engine would find and push apart when the joint breaks
-    // through. A broken point of a joint that still holds keeps this penalty, so that its faces
-    // cannot pass through each other; the rule does not change when a point breaks.
-    for (const int v : {i, j}) {
-      const double dv = P.dnv[v];
-      if (!(dv < 0)) continue;
-      const double f = 0.5 * P.w * NormalUndamaged(L, dv); // on A, along n (< 0: away from B)
-      for (int k = 0; k < 3; ++k) fa[v][k] += f * P.n[k], fb[v][k] -= f * P.n[k];
-    }
     if (state[q].broken) continue;
-    if (P.dn[q] <= 0) t.sigma = 0; // its compression is the vertices' above
+    if (P.dn[q] <= 0) t.sigma = 0; // its compression is the face's, below
     double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
     for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {
@@ -221,6 +244,23 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
       fa[i][k] += f, fa[j][k] += f;
       fb[i][k] -= f, fb[j][k] -= f;
     }
+  }
+  // Compression is not taken point by point but over the face, as the exact integral of the
+  // law's penalty energy f_t dn^2 / dn_peak over the part of the face where B has passed through
+  // A (the opening linear between the vertices' own), whether the points are intact or broken.
+  // Where the whole face is in compression this is the midpoints' rule to round-off; the points
+  // alone would miss a corner pressed in while the rest of the face opens (a hinge at a crack's
+  // edge), whose overlap the contact engine would find and push apart when the joint breaks
+  // through. A broken point of a joint that still holds keeps this penalty, so that its faces
+  // cannot pass through each other, and nothing changes in it when a point breaks.
+  if (!all_broken) {
+    const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
+    double       dI[3];
+    if (OverlapSquared(g, 3.0 * P.w, dI) > 0)
+      for (int v = 0; v < 3; ++v) {
+        const double f = L.ft * L.inv_dn_peak * dI[v]; // d(energy)/d(g_v): pushes B away from A along n
+        for (int k = 0; k < 3; ++k) fa[v][k] -= f * P.n[k], fb[v][k] += f * P.n[k];
+      }
   }
   if (dissipated) *dissipated += diss;
   return Dmax;
@@ -231,12 +271,11 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (!P.Set(xa, xb)) return 0;
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
   double e = 0;
-  for (int q = 0; q < 3; ++q) {
-    // the law's energy without its compression term, which is taken at the vertices (JointElementForces)
+  for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is the face's (JointElementForces)
     if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
-    for (const int v : {q, (q + 1) % 3})
-      if (P.dnv[v] < 0) e += 0.5 * P.w * L.ft * P.dnv[v] * P.dnv[v] / L.dn_peak;
-  }
+  const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
+  double       dI[3];
+  e += L.ft * L.inv_dn_peak * OverlapSquared(g, 3.0 * P.w, dI);
   return e;
 }
 
