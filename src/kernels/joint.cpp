@@ -203,6 +203,18 @@ double OverlapSquared(const double g[3], double A, double dI[3]) {
   }
   return I;
 }
+// The joint's compression (J): the larger of the penalty's energy at the midpoints (w per point,
+// broken points included) and its exact integral over the pressed part of the face
+// (OverlapSquared, with its derivatives in dI). *face tells which.
+double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *face) {
+  double mid = 0;
+  for (int q = 0; q < 3; ++q)
+    if (P.dn[q] < 0) mid += P.w * P.dn[q] * P.dn[q];
+  const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
+  const double I    = OverlapSquared(g, 3.0 * P.w, dI);
+  *face             = I > mid * (1 + 1e-9); // equal (to round-off) when the whole face is pressed in: the midpoints then
+  return L.ft * L.inv_dn_peak * (*face ? I : mid);
+}
 } // namespace
 
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
@@ -231,12 +243,16 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
     diss += P.w * t.dissipated;
   }
   const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
+  double     dI[3];
+  bool       face_rule = false;
+  if (!all_broken) Compression(L, P, dI, &face_rule);
   for (int q = 0; q < 3; ++q) {
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];
     if (all_broken) break; // the faces are contact surfaces now
-    if (state[q].broken) continue;
-    if (P.dn[q] <= 0) t.sigma = 0; // its compression is the face's, below
+    if (!face_rule && state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0; // keeps the compression at its midpoint
+    else if (state[q].broken) continue;
+    else if (face_rule && P.dn[q] <= 0) t.sigma = 0; // its compression is the face's, below
     double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
     for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {
@@ -245,23 +261,21 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
       fb[i][k] -= f, fb[j][k] -= f;
     }
   }
-  // Compression is not taken point by point but over the face, as the exact integral of the
-  // law's penalty energy f_t dn^2 / dn_peak over the part of the face where B has passed through
-  // A (the opening linear between the vertices' own), whether the points are intact or broken.
-  // Where the whole face is in compression this is the midpoints' rule to round-off; the points
-  // alone would miss a corner pressed in while the rest of the face opens (a hinge at a crack's
-  // edge), whose overlap the contact engine would find and push apart when the joint breaks
-  // through. A broken point of a joint that still holds keeps this penalty, so that its faces
-  // cannot pass through each other, and nothing changes in it when a point breaks.
-  if (!all_broken) {
-    const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
-    double       dI[3];
-    if (OverlapSquared(g, 3.0 * P.w, dI) > 0)
-      for (int v = 0; v < 3; ++v) {
-        const double f = L.ft * L.inv_dn_peak * dI[v]; // d(energy)/d(g_v): pushes B away from A along n
-        for (int k = 0; k < 3; ++k) fa[v][k] -= f * P.n[k], fb[v][k] += f * P.n[k];
-      }
-  }
+  // The compression is the larger of two energies: the law's penalty f_t dn^2 / dn_peak at the
+  // three midpoints (each a third of the area), and its exact integral over the part of the face
+  // where B has passed through A (the opening linear between the vertices' own). Where the whole
+  // face is pressed in the two are equal (the midpoint rule is exact for a quadratic) and the
+  // midpoints' forces are kept; the midpoints alone would miss a corner pressed in while the rest
+  // of the face opens (a hinge at a crack's edge), whose overlap the contact engine would find and
+  // push apart when the joint breaks through. Both are functions of the positions, for intact and
+  // broken points alike (a broken point of a joint that still holds keeps the penalty, so that
+  // its faces cannot pass through each other), so nothing changes in the compression when a
+  // point breaks, and the forces are the gradient of the larger.
+  if (face_rule && !all_broken)
+    for (int v = 0; v < 3; ++v) {
+      const double f = L.ft * L.inv_dn_peak * dI[v]; // d(energy)/d(g_v): pushes B away from A along n
+      for (int k = 0; k < 3; ++k) fa[v][k] -= f * P.n[k], fb[v][k] += f * P.n[k];
+    }
   if (dissipated) *dissipated += diss;
   return Dmax;
 }
@@ -271,12 +285,11 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (!P.Set(xa, xb)) return 0;
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
   double e = 0;
-  for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is the face's (JointElementForces)
+  for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is Compression's (JointElementForces)
     if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
-  const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
-  double       dI[3];
-  e += L.ft * L.inv_dn_peak * OverlapSquared(g, 3.0 * P.w, dI);
-  return e;
+  double dI[3];
+  bool   face;
+  return e + Compression(L, P, dI, &face);
 }
 
 } // namespace fdem::kernels
