@@ -245,7 +245,7 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
   const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
   double     dI[3];
   bool       face_rule = false;
-  if (!all_broken) Compression(L, P, dI, &face_rule);
+  if (L.face_compression != 0 && !all_broken) Compression(L, P, dI, &face_rule);
   for (int q = 0; q < 3; ++q) {
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];
@@ -285,6 +285,12 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (!P.Set(xa, xb)) return 0;
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
   double e = 0;
+  if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
+    for (int q = 0; q < 3; ++q)
+      if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
+      else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak;
+    return e;
+  }
   for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is Compression's (JointElementForces)
     if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
   double dI[3];

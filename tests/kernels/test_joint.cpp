@@ -311,7 +311,8 @@ void Hinge(const double dz[3], double xa[3][3], double xb[3][3]) {
 // back, the forces are the gradient of JointElementEnergy along a path that closes the hinge,
 // nothing changes when a point breaks, and a face pressed in all over gets the midpoints' forces.
 TEST(Joint, HingedJointResistsItsPressedCornerOverTheFace) {
-  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  JointLaw L         = MakeJointLaw(Mortar(), 0.01);
+  L.face_compression = 1;
   const double   d = 0.1 * L.dn_peak, A = 0.005, w = A / 3, k = L.penalty / L.h; // corner depth, area, weight of a point, p / h
   JointState     st[3];
   st[0].D = st[2].D = 1, st[0].broken = st[2].broken = true; // edges (0,1) and (2,0) broken; (1,2) holds
