@@ -212,7 +212,7 @@ double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *
     if (P.dn[q] < 0) mid += P.w * P.dn[q] * P.dn[q];
   const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
   const double I    = OverlapSquared(g, 3.0 * P.w, dI);
-  *face             = I > mid * (1 + 1e-9); // equal (to round-off) when the whole face is pressed in: the midpoints then
+  *face             = I > mid * (1 + 1e-9); // equal to round-off when the whole face is pressed in: the midpoints' forces are kept
   return L.ft * L.inv_dn_peak * (*face ? I : mid);
 }
 } // namespace
