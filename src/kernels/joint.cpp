@@ -189,12 +189,191 @@ struct BlockGeometry {
     for (int q = 0; q < 3; ++q) SqrtInPlace(s[q], nb);
   }
 };
+
+// ---- the face rule of the compression (JointLaw::face_compression), one joint at a time
+// The geometry of a joint element at its three points (the edge midpoints): the unit
+// normal of the mid-surface, each point's weight (a third of its area), opening, slip
+// vector and slip. false when the mid-surface has collapsed (it carries nothing).
+struct JointPoints {
+  double n[3], w, dn[3], sv[3][3], s[3], dnv[3]; // dnv: the opening at the vertices
+  bool   Set(const double xa[3][3], const double xb[3][3]) {
+    double m[3][3], d[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) m[i][k] = 0.5 * (xa[i][k] + xb[i][k]), d[i][k] = xb[i][k] - xa[i][k];
+    const double e1[3] = {m[1][0] - m[0][0], m[1][1] - m[0][1], m[1][2] - m[0][2]};
+    const double e2[3] = {m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]};
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    const double twiceA = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(twiceA > 0)) return false;
+    const double inv = 1.0 / twiceA;
+    for (double &c : n) c *= inv;
+    w = twiceA / 6.0;
+    for (int i = 0; i < 3; ++i) dnv[i] = d[i][0] * n[0] + d[i][1] * n[1] + d[i][2] * n[2];
+    for (int q = 0; q < 3; ++q) {
+      // point q is the midpoint of the edge (q, q+1): shape values 1/2, 1/2, 0
+      const int i = q, j = (q + 1) % 3;
+      double    sep[3];
+      for (int k = 0; k < 3; ++k) sep[k] = 0.5 * (d[i][k] + d[j][k]);
+      dn[q] = sep[0] * n[0] + sep[1] * n[1] + sep[2] * n[2];
+      for (int k = 0; k < 3; ++k) sv[q][k] = sep[k] - dn[q] * n[k];
+      s[q] = std::sqrt(sv[q][0] * sv[q][0] + sv[q][1] * sv[q][1] + sv[q][2] * sv[q][2]);
+    }
+    return true;
+  }
+};
+// The joint's compression over its face: with g_i = -dn_i the overlap at vertex i (> 0 where
+// B has passed through A) and g linear over the triangle of area A, the integral of
+// max(g, 0)^2 (m^4) and its derivatives dI/dg_i = 2 int max(g, 0) N_i dA (N_i the linear shape
+// functions). Exact: the triangle is clipped to g >= 0 (Sutherland-Hodgman in barycentric
+// coordinates) and the polygon fanned into triangles, on which products of linear functions
+// integrate as A'/12 (sum f_v h_v + sum f_v sum h_v). When every g_i >= 0 it is the midpoints'
+// rule (A/3) sum_q g_q^2 exactly, and its derivatives are the midpoints' forces.
+double OverlapSquared(const double g[3], double A, double dI[3]) {
+  dI[0] = dI[1] = dI[2] = 0;
+  if (!(g[0] > 0 || g[1] > 0 || g[2] > 0)) return 0;
+  struct V { double l[3], g; };
+  V poly[4], in[3];
+  for (int i = 0; i < 3; ++i) in[i] = V{{i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0}, g[i]};
+  int np = 0;
+  for (int i = 0; i < 3; ++i) {
+    const V &p = in[i], &q = in[(i + 1) % 3];
+    if (p.g >= 0) poly[np++] = p;
+    if ((p.g >= 0) != (q.g >= 0)) {
+      const double t = p.g / (p.g - q.g);
+      V &r = poly[np++];
+      for (int k = 0; k < 3; ++k) r.l[k] = p.l[k] + t * (q.l[k] - p.l[k]);
+      r.g = 0;
+    }
+  }
+  double I = 0;
+  for (int m = 1; m + 1 < np; ++m) {
+    const V &a = poly[0], &b = poly[m], &c = poly[m + 1];
+    // the sub-triangle's area over A: the determinant of its barycentric coordinates
+    const double r = std::fabs(a.l[0] * (b.l[1] * c.l[2] - b.l[2] * c.l[1]) - a.l[1] * (b.l[0] * c.l[2] - b.l[2] * c.l[0]) + a.l[2] * (b.l[0] * c.l[1] - b.l[1] * c.l[0]));
+    const double k = A * r / 12.0, sg = a.g + b.g + c.g;
+    I += k * (a.g * a.g + b.g * b.g + c.g * c.g + sg * sg);
+    for (int i = 0; i < 3; ++i) dI[i] += 2.0 * k * (a.g * a.l[i] + b.g * b.l[i] + c.g * c.l[i] + sg * (a.l[i] + b.l[i] + c.l[i]));
+  }
+  return I;
+}
+// The joint's compression (J): the larger of the penalty's energy at the midpoints (w per point,
+// broken points included) and its exact integral over the pressed part of the face
+// (OverlapSquared, with its derivatives in dI). *face tells which.
+double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *face) {
+  double mid = 0;
+  for (int q = 0; q < 3; ++q)
+    if (P.dn[q] < 0) mid += P.w * P.dn[q] * P.dn[q];
+  const double g[3] = {-P.dnv[0], -P.dnv[1], -P.dnv[2]};
+  const double I    = OverlapSquared(g, 3.0 * P.w, dI);
+  *face             = I > mid * (1 + 1e-9); // equal to round-off when the whole face is pressed in: the midpoints' forces are kept
+  return L.ft * L.inv_dn_peak * (*face ? I : mid);
+}
+// A joint under the face rule of the compression (JointLaw::face_compression), one at a time:
+// the law at its three points, the compression the larger of the points' and the face's.
+double FaceJointForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
+  JointPoints P;
+  if (!P.Set(xa, xb)) return 0; // a collapsed mid-surface carries nothing
+  double        Dmax = 0, diss = 0;
+  JointTraction t3[3];
+  for (int q = 0; q < 3; ++q) {
+    JointTraction &t = t3[q];
+    if (state[q].D == 0 && P.dn[q] <= L.dn_peak && !state[q].broken) {
+      // the common case, an undamaged point below the tensile peak: the law of
+      // JointTractionAt without the damage update, with the law's reciprocals (the same
+      // tractions to round-off)
+      const double dn = P.dn[q], x = dn * L.inv_dn_peak;
+      const double sigma0 = dn <= 0 ? 2.0 * L.ft * x : L.ft * x * (2.0 - x);
+      const double fs     = dn <= 0 ? L.c - sigma0 * L.tan_phi : L.c; // > 0: compression only adds
+      const double sp     = fs * L.slip_per_strength;
+      if (P.s[q] <= sp) {
+        const double y = P.s[q] / sp;
+        t              = JointTraction();
+        t.sigma        = sigma0;
+        t.tau          = fs * y * (2.0 - y);
+      } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
+    } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
+    Dmax = std::max(Dmax, t.D);
+    diss += P.w * t.dissipated;
+  }
+  const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
+  double     dI[3];
+  bool       face_rule = false;
+  if (L.face_compression != 0 && !all_broken) Compression(L, P, dI, &face_rule);
+  for (int q = 0; q < 3; ++q) {
+    const int     i = q, j = (q + 1) % 3;
+    JointTraction t = t3[q];
+    if (all_broken) break; // the faces are contact surfaces now
+    if (!face_rule && state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0; // keeps the compression at its midpoint
+    else if (state[q].broken) continue;
+    else if (face_rule && P.dn[q] <= 0) t.sigma = 0; // its compression is the face's, below
+    double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
+    for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
+    for (int k = 0; k < 3; ++k) {
+      const double f = 0.5 * P.w * tr[k];
+      fa[i][k] += f, fa[j][k] += f;
+      fb[i][k] -= f, fb[j][k] -= f;
+    }
+  }
+  // The compression is the larger of two energies: the law's penalty f_t dn^2 / dn_peak at the
+  // three midpoints (each a third of the area), and its exact integral over the part of the face
+  // where B has passed through A (the opening linear between the vertices' own). Where the whole
+  // face is pressed in the two are equal (the midpoint rule is exact for a quadratic) and the
+  // midpoints' forces are kept; the midpoints alone would miss a corner pressed in while the rest
+  // of the face opens (a hinge at a crack's edge), whose overlap the contact engine would find and
+  // push apart when the joint breaks through. Both are functions of the positions, for intact and
+  // broken points alike (a broken point of a joint that still holds keeps the penalty, so that
+  // its faces cannot pass through each other), so nothing changes in the compression when a
+  // point breaks, and the forces are the gradient of the larger.
+  if (face_rule && !all_broken)
+    for (int v = 0; v < 3; ++v) {
+      const double f = L.ft * L.inv_dn_peak * dI[v]; // d(energy)/d(g_v): pushes B away from A along n
+      for (int k = 0; k < 3; ++k) fa[v][k] -= f * P.n[k], fb[v][k] += f * P.n[k];
+    }
+  if (dissipated) *dissipated += diss;
+  return Dmax;
+}
+
+
+double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
+  JointPoints P;
+  if (!P.Set(xa, xb)) return 0;
+  if (state[0].broken && state[1].broken && state[2].broken) return 0;
+  double e = 0;
+  if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
+    for (int q = 0; q < 3; ++q)
+      if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
+      else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak;
+    return e;
+  }
+  for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is Compression's (JointElementForces)
+    if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
+  double dI[3];
+  bool   face;
+  return e + Compression(L, P, dI, &face);
+}
+
+
 } // namespace
 
 void JointBlockForces(JointBlock &B) {
   const int     nb = B.n;
   BlockGeometry G;
   G.Set(B);
+  // joints under the face rule of the compression: one at a time (FaceJointForces), their
+  // forces put in after the block's
+  bool   any_face = false, face[N];
+  double face_fa[N][9];
+  for (int b = 0; b < nb; ++b) {
+    face[b] = B.law[b]->face_compression != 0;
+    if (!face[b]) continue;
+    any_face = true;
+    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) xa[i][k] = B.xa[3 * i + k][b], xb[i][k] = B.xb[3 * i + k][b];
+    B.Dmax[b] = FaceJointForces(*B.law[b], xa, xb, B.state[b], fa, fb, B.dissipated[b]);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) face_fa[b][3 * i + k] = fa[i][k];
+  }
   // the law's constants and the points' history, component-major
   alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], undamaged[3][N];
   for (int b = 0; b < nb; ++b) {
@@ -223,6 +402,7 @@ void JointBlockForces(JointBlock &B) {
     }
   // the other points, one at a time: damage, softening, broken points
   for (int b = 0; b < nb; ++b) {
+    if (face[b]) continue; // done above
     B.Dmax[b] = 0;
     if (G.ok[b] == 0) continue; // a collapsed mid-surface carries nothing and keeps its history
     if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) continue;
@@ -268,6 +448,10 @@ void JointBlockForces(JointBlock &B) {
   for (int b = 0; b < nb; ++b)
     if (G.ok[b] == 0)
       for (int c = 0; c < 9; ++c) B.fa[c][b] = 0; // collapsed, or every point broken
+  if (any_face)
+    for (int b = 0; b < nb; ++b)
+      if (face[b])
+        for (int c = 0; c < 9; ++c) B.fa[c][b] = face_fa[b][c];
 }
 
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
@@ -282,6 +466,7 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
 }
 
 double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
+  if (L.face_compression != 0) return FaceJointEnergy(L, xa, xb, state);
   if (state[0].broken && state[1].broken && state[2].broken) return 0;
   JointBlock B;
   B.n = 1;

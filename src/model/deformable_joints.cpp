@@ -13,6 +13,7 @@
 #include <petscsf.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <string>
 
@@ -20,7 +21,7 @@ using namespace fdem::model::deformable;
 using fdem::kernels::JointLaw;
 using fdem::kernels::norm;
 
-static_assert(sizeof(JointLaw) == 12 * sizeof(double), "JointLaw is sent as 12 doubles");
+static_assert(sizeof(JointLaw) == 13 * sizeof(double), "JointLaw is sent as its first 12 doubles; face_compression is set on each rank");
 
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
@@ -115,7 +116,10 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   }
   if (nj == 0) PetscFunctionReturn(0);
   // rank 0: each joint's record (8 ints, 12 reals) to the rank of its tetrahedron a
-  constexpr int          NI = 8, NR = 12;
+  constexpr int          NI = 8, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
+  static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
+  PetscBool face = PETSC_FALSE; // the compression over the face (doc/fracture.md, "One joint element")
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-fdem_joint_face_compression", &face, nullptr));
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
   std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);
@@ -193,6 +197,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
       }
     }
     std::copy(&rmine[NR * (size_t)j], &rmine[NR * (size_t)j] + NR, reinterpret_cast<double *>(&d->jlaw[j]));
+    d->jlaw[j].face_compression = face ? 1.0 : 0.0;
   }
   PetscCall(PetscSFCreate(d->comm, &d->jsf));
   PetscCall(PetscSFSetGraph(d->jsf, 3 * d->nlocal, 9 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));

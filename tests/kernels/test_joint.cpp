@@ -292,3 +292,70 @@ TEST(Joint, ElementForcesBalanceAndVanishForCoincidentFaces) {
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(ca[i][k], 0);
 }
+
+namespace {
+// Triangle A in the plane z = 0 (area 0.005 m^2, normal +z) and B above it, vertex i of B
+// at height dz[i]: an opening that varies linearly over the face.
+void Hinge(const double dz[3], double xa[3][3], double xb[3][3]) {
+  const double a[3][3] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) xa[i][k] = a[i][k], xb[i][k] = a[i][k] + (k == 2 ? dz[i] : 0.0);
+}
+} // namespace
+
+// A joint hinged about a line across its face (a crack opening on one side while a corner is
+// pressed in) with two of its points broken: every midpoint is open, so a penalty taken at the
+// midpoints lets the corner pass through B unresisted, and the contact engine finds the overlap
+// when the joint breaks through (doc/fracture.md, "Broken joints"). The compression is the exact
+// integral of the penalty's energy over the part of the face pressed in: the corner is pushed
+// back, the forces are the gradient of JointElementEnergy along a path that closes the hinge,
+// nothing changes when a point breaks, and a face pressed in all over gets the midpoints' forces.
+TEST(Joint, HingedJointResistsItsPressedCornerOverTheFace) {
+  JointLaw L         = MakeJointLaw(Mortar(), 0.01);
+  L.face_compression = 1;
+  const double   d = 0.1 * L.dn_peak, A = 0.005, w = A / 3, k = L.penalty / L.h; // corner depth, area, weight of a point, p / h
+  JointState     st[3];
+  st[0].D = st[2].D = 1, st[0].broken = st[2].broken = true; // edges (0,1) and (2,0) broken; (1,2) holds
+  const double dz[3] = {-d, 2 * d, 2 * d};                   // midpoints open: d/2, 2d, d/2
+  double       xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+  Hinge(dz, xa, xb);
+  JointState s[3] = {st[0], st[1], st[2]};
+  JointElementForces(L, xa, xb, s, fa, fb);
+  // the pressed part is the triangle at vertex 0 cut at a third of its edges: int g N_0 dA = 10 A d / 324
+  EXPECT_NEAR(fb[0][2], k * 10 * A * d / 324, 1e-3 * k * A * d / 32); // B's corner pushed back up
+  EXPECT_NEAR(fa[0][2], -fb[0][2], 1e-12);
+  EXPECT_NEAR(JointElementEnergy(L, xa, xb, s), k / 2 * A * d * d / 54 + w * L.ft * L.dn_peak * (0.04 - 0.008 / 3), 1e-3 * k * A * d * d / 108);
+  // work = - change of energy along a path from the open hinge to a corner pressed in by 2d
+  const int n    = 2000;
+  double    work = 0, fprev = 0, e0 = 0, e1 = 0;
+  for (int m = 0; m <= n; ++m) {
+    const double z   = 2 * d - 4 * d * m / n;
+    const double p[3] = {z, 2 * d, 2 * d};
+    double       ya[3][3], yb[3][3], ga[3][3] = {}, gb[3][3] = {};
+    JointState   c[3] = {st[0], st[1], st[2]};
+    Hinge(p, ya, yb);
+    JointElementForces(L, ya, yb, c, ga, gb);
+    if (m > 0) work += 0.5 * (fprev + gb[0][2]) * (-4 * d / n);
+    fprev = gb[0][2];
+    if (m == 0) e0 = JointElementEnergy(L, ya, yb, c);
+    if (m == n) e1 = JointElementEnergy(L, ya, yb, c);
+  }
+  EXPECT_GT(e1 - e0, 0);
+  EXPECT_NEAR(work, -(e1 - e0), 2e-3 * (e1 - e0));
+  // the compression does not change when a point breaks: an intact joint pressed in at a corner
+  // stores what the same joint with two broken points stores (neither has tension or slip)
+  const double q[3] = {-d, 0, 0};
+  double       za[3][3], zb[3][3];
+  Hinge(q, za, zb);
+  JointState intact[3];
+  EXPECT_NEAR(JointElementEnergy(L, za, zb, intact), JointElementEnergy(L, za, zb, st), 1e-12 * k * A * d * d);
+  EXPECT_NEAR(JointElementEnergy(L, za, zb, intact), k / 2 * A * d * d / 6, 1e-6 * k * A * d * d);
+  // a face pressed in all over: the forces of the penalty at the midpoints, (A/12) (p/h) (2 g_i + g_j + g_k)
+  const double r[3] = {-d, -2 * d, -3 * d};
+  double       ra[3][3], rb[3][3], ha[3][3] = {}, hb[3][3] = {};
+  Hinge(r, ra, rb);
+  JointState fresh[3];
+  JointElementForces(L, ra, rb, fresh, ha, hb);
+  const double g[3] = {d, 2 * d, 3 * d};
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(hb[i][2], A / 12 * k * (g[i] + g[0] + g[1] + g[2]), 1e-3 * A / 12 * k * d) << "vertex " << i;
+}

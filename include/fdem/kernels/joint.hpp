@@ -42,6 +42,11 @@ struct JointLaw {
   double s_span = 0;               // s_crit - s_peak, the softening span of the slip (pure shear), m
   double inv_dn_peak = 0;          // 1 / dn_peak, 1/m
   double slip_per_strength = 0;    // 2 h / p: the slip at the shear peak is f_s times this, m/Pa
+  // 1: a joint element's compression is the larger of the penalty's energy at its three points
+  // and its exact integral over the pressed part of the face (JointElementForces); 0: the points'
+  // alone. Not set by MakeJointLaw (0); the deformable model sets it from
+  // -fdem_joint_face_compression (doc/fracture.md, "One joint element").
+  double face_compression = 0;
 };
 
 // Checks the material and the element size and returns the law. Throws
