@@ -41,7 +41,8 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetGravity(FDEMRigid rb, const PetscReal g[
    old name. */
 PETSC_EXTERN PetscErrorCode FDEMRigidAddForce(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx);
-/* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body. */
+/* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body
+   until the first migration (then a recursive bisection of the bodies, FDEMRigidMigrate). */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetDomain(FDEMRigid rb, const PetscReal lo[3], const PetscReal hi[3]);
 
 /* Adds a body given by its principal data. Call on every rank with the same
@@ -95,7 +96,9 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U);
 /* Copies U back into the swarm; U stays the caller's (as FDEMDeformableRestoreState and
    FDEMSceneRestoreState: every ...RestoreState keeps the Vec). */
 PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U);
-/* Sends every body to the rank whose slab holds its centre (DMSwarmMigrate). */
+/* Partitions the moving bodies by a recursive coordinate bisection of their centres weighted by
+   their contact primitives (doc/rigid.md, "Parallel") and sends every body to its part's rank
+   (DMSwarmMigrate). Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
 /* Solves from t0 to tfinal with steps dt (default type cd), migrating every
    `migrate_every` steps (a new TS per segment). dt, tfinal and the type are

@@ -119,7 +119,9 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   constexpr int          NI = 8, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
   static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
   PetscBool face = PETSC_FALSE; // the compression over the face (doc/fracture.md, "One joint element")
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-fdem_joint_face_compression", &face, nullptr));
+  PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
+  PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
+  PetscOptionsEnd();
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
   std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);

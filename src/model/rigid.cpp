@@ -10,6 +10,7 @@
 #include <cstring>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,11 @@ fdem::kernels::FreeRotation Kind(FDEMRotationType t) {
 PetscMPIInt OwnerRank(FDEMRigid rb, const PetscReal x[3]) {
   if (rb->axis < 0 || rb->size == 1) return 0;
   const int a = rb->axis;
-  if (!rb->cuts.empty()) return (PetscMPIInt)(std::upper_bound(rb->cuts.begin(), rb->cuts.end(), x[a]) - rb->cuts.begin());
+  if (!rb->rcb.empty()) {
+    int i = 0;
+    while (rb->rcb[i].axis >= 0) i = x[rb->rcb[i].axis] < rb->rcb[i].cut ? rb->rcb[i].left : rb->rcb[i].right;
+    return (PetscMPIInt)rb->rcb[i].rank;
+  }
   const double f = (x[a] - rb->lo[a]) / (rb->hi[a] - rb->lo[a]);
   long         r = (long)std::floor(f * rb->size);
   return (PetscMPIInt)std::min<long>(std::max<long>(r, 0), rb->size - 1);
@@ -576,13 +581,16 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
   if (rb->moved) rb->meter.Sample(t, rb->power + extra);
 }
 
-// Slabs with equal numbers of moving bodies: along the axis of the largest spread of their
-// centres, the boundaries are the quantiles of their coordinates (fixed bodies -- walls,
-// floors -- cost little: their pairs are computed by the moving body's owner). Every rank
-// computes the same cuts from the same gathered centres. Fewer moving bodies than ranks:
-// equal slabs of the domain.
-static PetscErrorCode BalanceSlabs(FDEMRigid rb) {
-  PetscInt        n, *fx;
+// The partition: a recursive coordinate bisection of the moving bodies' centres, each weighted
+// by its contact primitives (a sphere 1, a polyhedron its skin tetrahedra: the contact work
+// grows with them). A group of ranks [r0, r1) splits its bodies along the axis of their
+// largest spread (between the 10% and 90% quantiles, so a few bodies thrown far do not choose
+// it) at the weighted quantile (r1 - r0) / 2 / (r1 - r0), the cut half-way between the two
+// bodies on either side. Fixed bodies (walls, floors) are left out: their pairs are computed
+// by the moving body's owner. Every rank computes the same tree from the same gathered centres.
+// Fewer moving bodies than ranks: equal slabs of the domain.
+static PetscErrorCode BalanceRcb(FDEMRigid rb) {
+  PetscInt         n, *fx, *sk;
   const PetscReal *x;
   std::vector<PetscReal> mine;
   PetscFunctionBegin;
@@ -590,8 +598,13 @@ static PetscErrorCode BalanceSlabs(FDEMRigid rb) {
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
   PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmGetField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
+  PetscCall(DMSwarmGetField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
   for (PetscInt b = 0; b < n; ++b)
-    if (!fx[b]) mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
+    if (!fx[b]) {
+      mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
+      mine.push_back(sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0);
+    }
+  PetscCall(DMSwarmRestoreField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
   PetscCall(DMSwarmRestoreField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
   PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscMPIInt              cnt = (PetscMPIInt)mine.size();
@@ -600,25 +613,49 @@ static PetscErrorCode BalanceSlabs(FDEMRigid rb) {
   for (int r = 0; r < rb->size; ++r) displs[r + 1] = displs[r] + cnts[r];
   std::vector<PetscReal> all(displs[rb->size]);
   PetscCallMPI(MPI_Allgatherv(mine.data(), cnt, MPIU_REAL, all.data(), cnts.data(), displs.data(), MPIU_REAL, rb->comm));
-  const size_t m = all.size() / 3;
-  rb->cuts.clear();
+  const size_t m = all.size() / 4;
+  rb->rcb.clear();
   if (m < (size_t)rb->size) PetscFunctionReturn(0);
-  // the spread of each axis between its 10% and 90% quantiles (a few bodies thrown far do not choose it)
-  std::vector<PetscReal> c[3];
-  int                    a = 0;
-  PetscReal              spread[3];
-  for (int k = 0; k < 3; ++k) {
-    c[k].resize(m);
-    for (size_t i = 0; i < m; ++i) c[k][i] = all[3 * i + k];
-    std::sort(c[k].begin(), c[k].end());
-    spread[k] = c[k][(9 * (m - 1)) / 10] - c[k][(m - 1) / 10];
-    if (spread[k] > spread[a]) a = k;
-  }
-  rb->axis = a;
-  for (int r = 1; r < rb->size; ++r) {
-    const size_t i = r * m / rb->size; // bodies [0, i) go below the cut
-    rb->cuts.push_back(0.5 * (c[a][i - 1] + c[a][i]));
-  }
+  std::vector<size_t> idx(m);
+  for (size_t i = 0; i < m; ++i) idx[i] = i;
+  auto at = [&](size_t i, int k) { return all[4 * i + k]; };
+  // node for ranks [r0, r1) over the bodies idx[b, e); returns its index
+  std::function<int(size_t, size_t, int, int)> split = [&](size_t b, size_t e, int r0, int r1) -> int {
+    const int node = (int)rb->rcb.size();
+    rb->rcb.emplace_back();
+    if (r1 - r0 == 1 || e - b < 2) {
+      rb->rcb[node].rank = r0;
+      return node;
+    }
+    int       ax = 0;
+    PetscReal spread[3];
+    for (int k = 0; k < 3; ++k) {
+      std::vector<PetscReal> c(e - b);
+      for (size_t i = b; i < e; ++i) c[i - b] = at(idx[i], k);
+      std::sort(c.begin(), c.end());
+      spread[k] = c[(9 * (c.size() - 1)) / 10] - c[(c.size() - 1) / 10];
+      if (spread[k] > spread[ax]) ax = k;
+    }
+    std::sort(idx.begin() + b, idx.begin() + e, [&](size_t u, size_t v) { return at(u, ax) < at(v, ax) || (at(u, ax) == at(v, ax) && u < v); });
+    const int rm    = r0 + (r1 - r0) / 2;
+    PetscReal total = 0, acc = 0;
+    for (size_t i = b; i < e; ++i) total += at(idx[i], 3);
+    const PetscReal goal = total * (PetscReal)(rm - r0) / (PetscReal)(r1 - r0);
+    size_t          c    = b + 1; // bodies [b, c) go left; at least one on each side
+    for (size_t i = b; i < e - 1; ++i) {
+      acc += at(idx[i], 3);
+      c = i + 1;
+      if (acc >= goal) break;
+    }
+    const PetscReal cut = 0.5 * (at(idx[c - 1], ax) + at(idx[c], ax));
+    const int       l = split(b, c, r0, rm), r = split(c, e, rm, r1);
+    rb->rcb[node].axis  = ax;
+    rb->rcb[node].cut   = cut;
+    rb->rcb[node].left  = l;
+    rb->rcb[node].right = r;
+    return node;
+  };
+  split(0, m, 0, rb->size);
   PetscFunctionReturn(0);
 }
 
@@ -627,7 +664,7 @@ PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscReal *x;
   PetscFunctionBegin;
   if (rb->size == 1) PetscFunctionReturn(0);
-  PetscCall(BalanceSlabs(rb));
+  PetscCall(BalanceRcb(rb));
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
   PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmGetField(rb->sw, DMSwarmField_rank, nullptr, nullptr, (void **)&rk));

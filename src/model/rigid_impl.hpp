@@ -78,7 +78,16 @@ struct _n_FDEMRigid {
   PetscReal         g[3] = {0, 0, 0};
   PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int               axis = -1; // slab axis; -1: rank 0 holds everything
-  std::vector<PetscReal> cuts;  // size - 1 slab boundaries along axis (FDEMRigidMigrate); empty: equal slabs of [lo, hi]
+  // the partition (FDEMRigidMigrate): a recursive coordinate bisection of the moving bodies'
+  // centres, weighted by their contact primitives; node 0 is the root, a leaf names its rank.
+  // Empty (before the first migration, or fewer moving bodies than ranks): equal slabs of
+  // [lo, hi] along `axis`.
+  struct RcbNode {
+    int       axis = -1, left = -1, right = -1; // axis < 0: a leaf
+    PetscReal cut  = 0;                         // x[axis] < cut: left
+    int       rank = 0;
+  };
+  std::vector<RcbNode> rcb;
   PetscInt          next_id = 0;
   std::vector<Skin> skins; // replicated: every rank adds every body
   // granular materials and each body's (by id; -1: none), replicated

@@ -12,6 +12,7 @@
 #include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/rotation.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -39,6 +40,7 @@ static const PetscInt  NB = 40;
 static const PetscReal LX = 8.0;
 
 static PetscReal X0(PetscInt b) { return 0.5 + 7.0 * (b + 0.5) / NB; }
+static std::vector<PetscInt> g_tets(NB); // each body's tetrahedra: its weight in the partition
 
 static PetscErrorCode BuildScene(MPI_Comm comm, FDEMRigid *out) {
   FDEMRigid rb;
@@ -58,6 +60,7 @@ static PetscErrorCode BuildScene(MPI_Comm comm, FDEMRigid *out) {
     const int npts = 8 + (int)(b % 7);
     for (int i = 0; i < npts; ++i) pts.push_back(Vec3(0.3 * U(rng), 0.2 * U(rng), 0.15 * U(rng)));
     fdem::kernels::MakeConvexPolyhedronTets(pts, X, T);
+    g_tets[b] = (PetscInt)T.size();
     std::vector<PetscReal> nodes;
     std::vector<PetscInt>  tets;
     for (const Vec3 &p : X) nodes.insert(nodes.end(), {p.x, p.y, p.z});
@@ -113,7 +116,7 @@ int main(int argc, char **argv) {
   double                worst = 0;
   PetscInt              moved = 0, crossed = 0;
   std::vector<double>   lo(size, INFINITY), hi(size, -INFINITY);
-  std::vector<PetscInt> count(size, 0);
+  std::vector<PetscInt> count(size, 0), weight(size, 0);
   for (PetscInt id = 0; id < NB; ++id) {
     FDEMRigidBodyState a, b;
     PetscCall(FDEMRigidGetBodyState(par, id, &a));
@@ -138,6 +141,7 @@ int main(int argc, char **argv) {
     lo[a.rank] = std::fmin(lo[a.rank], a.x[0]);
     hi[a.rank] = std::fmax(hi[a.rank], a.x[0]);
     count[a.rank]++;
+    weight[a.rank] += g_tets[id];
     // it crossed the middle of the box (the slab boundary on 2 ranks) in the serial run
     CHECK(b.x[0] > 0 && b.x[0] < LX, "body %" PetscInt_FMT " left the box: x = %g", id, b.x[0]);
     if ((b.x[0] < LX / 2) != (X0(id) < LX / 2)) crossed++;
@@ -145,10 +149,16 @@ int main(int argc, char **argv) {
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d ranks, %" PetscInt_FMT " bodies, T = %g, dt = %g, %" PetscInt_FMT " segments of 5 steps: max relative difference parallel vs serial %.3e (bound 1e-12)\n", size, NB, (double)T, (double)dt,
                         segments - 1, worst));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bodies that crossed the middle of the box: %" PetscInt_FMT "; bodies that changed rank: %" PetscInt_FMT "\n", crossed, moved));
-  // the last migration made slabs along x (the longest spread) with equal numbers of bodies:
-  // each rank's bodies lie below the next rank's, and the counts differ by at most one
+  // the last migration bisected along x (the longest spread, at every level here: the box is
+  // 8 x 2 x 2): each rank's bodies lie below the next rank's
   for (int r = 0; r + 1 < size; ++r) CHECK(hi[r] < lo[r + 1], "the bodies of rank %d reach x = %g, beyond the first of rank %d at x = %g", r, hi[r], r + 1, lo[r + 1]);
-  for (int r = 0; r < size; ++r) CHECK(count[r] == NB / size || count[r] == NB / size + 1, "rank %d holds %" PetscInt_FMT " of %" PetscInt_FMT " bodies: the slabs are not balanced", r, count[r], NB);
+  // the partition balances the bodies' weights (their tetrahedra): each rank within one body's
+  // weight of its share per level of the bisection
+  PetscInt wtot = 0, wmax = 0, levels = 0;
+  for (PetscInt id = 0; id < NB; ++id) wtot += g_tets[id], wmax = std::max(wmax, g_tets[id]);
+  while ((1 << levels) < size) ++levels;
+  for (int r = 0; r < size; ++r)
+    CHECK(std::fabs((double)weight[r] - (double)wtot / size) <= (double)(levels * wmax), "rank %d holds %" PetscInt_FMT " of %" PetscInt_FMT " bodies, %" PetscInt_FMT " of %" PetscInt_FMT " tetrahedra: the partition is not balanced", r, count[r], NB, weight[r], wtot);
   CHECK(crossed >= NB / 4, "only %" PetscInt_FMT " bodies crossed the middle of the box: the scene does not exercise migration", crossed);
   if (size > 1) CHECK(moved >= NB / 4, "only %" PetscInt_FMT " bodies changed rank on %d ranks", moved, size);
   else CHECK(moved == 0, "%" PetscInt_FMT " bodies changed rank on one rank", moved);
