@@ -81,6 +81,10 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
   d->njoints_global = nj;
+  PetscBool face = PETSC_FALSE; // the compression over the face (doc/fracture.md, "One joint element")
+  PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
+  PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
+  PetscOptionsEnd();
   if (sizes[1] == 0) { // nothing was split: every node is its own input node
     d->owned_input  = d->owned_gid;
     d->ninput_nodes = d->nnodes_global;
@@ -118,10 +122,6 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   // rank 0: each joint's record (8 ints, 12 reals) to the rank of its tetrahedron a
   constexpr int          NI = 8, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
   static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
-  PetscBool face = PETSC_FALSE; // the compression over the face (doc/fracture.md, "One joint element")
-  PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
-  PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
-  PetscOptionsEnd();
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
   std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);
