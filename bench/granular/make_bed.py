@@ -7,6 +7,7 @@ NULL 0.5 1 (kt = 2/7 kn, gamma_t = gamma_n / 2), dt 1e-4, search buffer 0.1
 (LAMMPS's neighbour skin).
 
   make_bed.py CELLS STEPS [--from DUMP] > bed.yaml
+  make_bed.py CELLS STEPS --from DUMP --liggghts DIR   (DIR/box.in, DIR/atoms.in for in.bed.liggghts)
 
 --from DUMP takes the positions and velocities of a LAMMPS dump of in.bed
 (lmp -in in.bed -var dumpv 1 -var dumpfile DUMP ...), so that both codes start from the same
@@ -22,6 +23,17 @@ if len(sys.argv) > 4 and sys.argv[3] == "--from":
     lines = open(sys.argv[4]).read().split("\n")
     i0 = lines.index("ITEM: ATOMS id x y z vx vy vz") + 1
     state = [list(map(float, l.split()[1:])) for l in lines[i0:] if l.strip()]
+if "--liggghts" in sys.argv:
+    d = sys.argv[sys.argv.index("--liggghts") + 1]
+    lo = min(min(p[:3]) for p in state) - 1
+    hi = max(max(p[:3]) for p in state) + 1
+    open(d + "/box.in", "w").write("region box block %r %r %r %r %r %r units box\n" % (lo, hi, lo, hi, lo, hi))
+    with open(d + "/atoms.in", "w") as f:
+        for p in state:
+            f.write("create_atoms 1 single %r %r %r units box\n" % tuple(p[:3]))
+        for i, p in enumerate(state):
+            f.write("set atom %d vx %r vy %r vz %r\n" % (i + 1, p[3], p[4], p[5]))
+    sys.exit(0)
 a = math.sqrt(2.0)
 basis = [(0, 0, 0), (0.5, 0.5, 0), (0.5, 0, 0.5), (0, 0.5, 0.5)]
 rng = random.Random(4928459)

@@ -12,11 +12,13 @@
 set -e
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:?build directory}; cells=${2:-10}; steps=${3:-1000}; rounds=${4:-3}
-command -v lmp >/dev/null || { echo "lmp not found (apt-get install lammps)"; exit 1; }
+command -v lmp >/dev/null || { echo "lmp not found (apt-get install lammps; liggghts too for its column)"; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
 lmp -in "$here/in.bed" -var cells "$cells" -var steps 0 -var dumpv 1 -var dumpfile "$tmp/start.dump" -log none > /dev/null 2>&1
 python3 "$here/make_bed.py" "$cells" "$steps" --from "$tmp/start.dump" > "$tmp/bed.yaml" # the same start as LAMMPS
+lig=$(command -v liggghts || true)
+[ -n "$lig" ] && python3 "$here/make_bed.py" "$cells" "$steps" --from "$tmp/start.dump" --liggghts "$tmp"
 n=$((4 * cells * cells * cells))
 r=1
 while [ $r -le "$rounds" ]; do
@@ -27,9 +29,15 @@ while [ $r -le "$rounds" ]; do
     l=$(mpiexec -n $np lmp -in "$here/in.bed" -var cells "$cells" -var steps "$steps" -log none 2>&1)
     lt=$(echo "$l" | awk '/^Loop time/{print $4}')
     lcm=$(echo "$l" | awk '/^ *Step/{getline; getline; print $4}')
-    echo "$n $steps $np $ft $ftouch $lt $lcm" | awk -v r=$r '{
-      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$6/np;
-      printf "round %d, %d rank(s), %d spheres: fdem %.3g, LAMMPS %.3g particle-steps/s/core, fdem/LAMMPS %.2f; coordination fdem %.3f, LAMMPS %.3f\n", r, np, n, fps, lps, fps/lps, 2*$5/n, $7 }'
+    gt=0; gcm=0
+    if [ -n "$lig" ]; then
+      g=$(mpiexec -n $np "$lig" -in "$here/in.bed.liggghts" -var dir "$tmp" -var steps "$steps" -log none 2>&1)
+      gt=$(echo "$g" | awk '/^Loop time/{print $4}')
+      gcm=$(echo "$g" | awk '/^ *Step/{getline; getline; print $4}')
+    fi
+    echo "$n $steps $np $ft $ftouch $lt $lcm $gt $gcm" | awk -v r=$r '{
+      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$6/np; gps=($8 > 0) ? n*s/$8/np : 0; rg=(gps > 0) ? fps/gps : 0;
+      printf "round %d, %d rank(s), %d spheres: particle-steps/s/core fdem %.3g, LAMMPS %.3g, LIGGGHTS %.3g; fdem/LAMMPS %.2f, fdem/LIGGGHTS %.2f; coordination fdem %.3f, LAMMPS %.3f, LIGGGHTS %.3f\n", r, np, n, fps, lps, gps, fps/lps, rg, 2*$5/n, $7, $9 }'
   done
   r=$((r + 1))
 done
