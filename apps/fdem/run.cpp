@@ -381,7 +381,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const bool        write = dir != "none";
   // a restarted run appends to balance.csv and writes its frames into DIR/restart_<step>
   const std::string fdir  = o.restart[0] ? dir + "/restart_" + std::to_string((long long)step) : dir;
-  FILE             *bal   = nullptr;
+  FILE             *bal   = nullptr, *loads = nullptr;
   if (write) {
     PetscCall(MakeDir(comm, fdir));
     if (rank == 0) {
@@ -390,6 +390,21 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       bal                    = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
       PetscCheck(bal, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/balance.csv", dir.c_str());
       if (head) std::fprintf(bal, "time,kinetic,strain,contact,gravity,fracture,external_work,dissipated,total,px,py,pz,Lx,Ly,Lz\n");
+    }
+  }
+  // the moved rigid bodies (platens): their loads in loads.csv, a row with each balance row
+  std::vector<std::pair<PetscInt, std::string>> platens; // rigid id, name
+  for (size_t k = 0; k < s.rigid_bodies.size(); ++k)
+    if (sc.bodies[s.rigid_bodies[k]].moved) platens.push_back({(PetscInt)k, sc.bodies[s.rigid_bodies[k]].name});
+  if (write && !platens.empty() && rank == 0) {
+    const std::string file = dir + "/loads.csv";
+    const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
+    loads                  = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
+    PetscCheck(loads, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/loads.csv", dir.c_str());
+    if (head) {
+      std::fprintf(loads, "time");
+      for (const auto &p : platens) std::fprintf(loads, ",%s_Fx,%s_Fy,%s_Fz", p.second.c_str(), p.second.c_str(), p.second.c_str());
+      std::fprintf(loads, "\n");
     }
   }
   // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
@@ -432,6 +447,16 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
     PetscCall(WriteBalanceRow(bal, b));
+    if (write && !platens.empty()) { // the force on each platen at the segment's last evaluation (collective)
+      std::vector<PetscReal> F(3 * platens.size());
+      for (size_t k = 0; k < platens.size(); ++k) PetscCall(FDEMRigidGetBodyForce(s.rb, platens[k].first, &F[3 * k]));
+      if (loads) {
+        std::fprintf(loads, "%.17g", (double)t);
+        for (PetscReal f : F) std::fprintf(loads, ",%.17g", (double)f);
+        std::fprintf(loads, "\n");
+        std::fflush(loads);
+      }
+    }
     const bool last = step >= nsteps || t >= end * (1 - 1e-12);
     if (write && (step % fevery == 0 || last)) {
       PetscCall(SimWriteOutput(s, fdir, step, t));
@@ -461,6 +486,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const double cpu1 = CpuSeconds();
   if (prog.on && prog.tty && rank == 0) std::fprintf(stdout, "\n");
   if (bal) std::fclose(bal);
+  if (loads) std::fclose(loads);
   if (write) PetscCall(WriteSceneXdmf(comm, fdir, frames, s.rb != nullptr, s.dfm != nullptr));
   if (write) PetscCall(WriteBodies(s, fdir + "/bodies.csv"));
   const double run = w1 - prog.wall0;

@@ -86,6 +86,10 @@ PETSC_EXTERN PetscErrorCode FDEMRigidFixBody(FDEMRigid rb, PetscInt id);
    SetExternalWork restores it on restart. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidMoveBody(FDEMRigid rb, PetscInt id, const PetscReal v[3]);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetExternalWork(FDEMRigid rb, PetscReal *W);
+/* The force on body id at the last force evaluation: gravity, contact (rigid and, in a scene,
+   with the mesh) and the force functions; for a fixed or moved body (a platen) it is the load
+   the others put on it, the reaction that holds it being its negative. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetBodyForce(FDEMRigid rb, PetscInt id, PetscReal F[3]);
 PETSC_EXTERN PetscErrorCode FDEMRigidSetExternalWork(FDEMRigid rb, PetscReal W);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetDM(FDEMRigid rb, DM *swarm);
 PETSC_EXTERN PetscErrorCode FDEMRigidGetNumBodies(FDEMRigid rb, PetscInt *nlocal, PetscInt *nglobal);

@@ -93,6 +93,8 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
     }
     for (const auto &term : rb->forces)
       if (term.body) PetscCall(term.body(rb->ids[b], t, L.x(q, b), L.R(q, b), nullptr, nullptr, F, M, term.ctx));
+    if ((PetscInt)rb->load.size() == 3 * n)
+      for (int k = 0; k < 3; ++k) rb->load[3 * b + k] = F[k];
     for (int k = 0; k < 3; ++k) {
       L.F(a, b)[k] = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
       L.M(a, b)[k] = rb->fixed[b] ? 0.0 : M[k];
@@ -433,6 +435,17 @@ PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FDEMRigidGetBodyForce(FDEMRigid rb, PetscInt id, PetscReal F[3]) {
+  PetscReal mine[3] = {0, 0, 0};
+  PetscFunctionBegin;
+  PetscCheck(id >= 0 && id < rb->next_id, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidGetBodyForce: no body %" PetscInt_FMT, id);
+  for (size_t b = 0; b < rb->ids.size() && 3 * b + 2 < rb->load.size(); ++b)
+    if (rb->ids[b] == id)
+      for (int k = 0; k < 3; ++k) mine[k] = rb->load[3 * b + k];
+  PetscCallMPI(MPI_Allreduce(mine, F, 3, MPIU_REAL, MPI_SUM, rb->comm));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMRigidGetDM(FDEMRigid rb, DM *sw) {
   PetscFunctionBegin;
   *sw = rb->sw;
@@ -492,6 +505,7 @@ PetscErrorCode fdem::model::RigidLoadState(FDEMRigid rb, PetscScalar *u) {
   rb->ids.assign(f.id, f.id + n);
   rb->fixed.assign(f.fixed, f.fixed + n);
   rb->sphere.assign(n, 0);
+  rb->load.assign(3 * n, 0.0);
   for (PetscInt b = 0; b < n; ++b) rb->sphere[b] = f.skin[b] == kSphereSkin;
   for (PetscInt b = 0; b < n; ++b) {
     for (int k = 0; k < 3; ++k) {

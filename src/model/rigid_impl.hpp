@@ -106,6 +106,7 @@ struct _n_FDEMRigid {
   // fixed bodies (walls, floors): never moved by forces
   std::vector<PetscInt> fixed;      // per local body while a TS runs (1 = fixed or moved)
   std::vector<char>     sphere;     // per local body while a TS runs: a sphere
+  std::vector<PetscReal> load;      // per local body: the force on it at the last evaluation (3 each; FDEMRigidGetBodyForce)
   PetscBool             sphere_orientation = PETSC_FALSE; // turn the spheres' R too (-fdem_rigid_sphere_orientation)
   // moved bodies (FDEMRigidMoveBody): fixed bodies with a held velocity; the power of their
   // reactions at the last force evaluation (this rank) and its time integral

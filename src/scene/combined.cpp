@@ -75,6 +75,8 @@ PetscErrorCode RigidMomentum(FDEMScene s, TS ts, PetscReal t, const PetscScalar 
     const fdem::model::RigidLayout L(s->nr);
     const PetscScalar             *FM = s->c->RigidForces().data();
     for (PetscInt b = 0; b < s->nr; ++b) {
+      if ((PetscInt)rb->load.size() == 3 * s->nr)
+        for (int k = 0; k < 3; ++k) rb->load[3 * b + k] += PetscRealPart(L.F(FM, b)[k]);
       if (rb->fixed[b]) {
         for (int k = 0; k < 3; ++k) extra -= PetscRealPart(L.F(FM, b)[k] * L.v(u, b)[k]);
         continue;
