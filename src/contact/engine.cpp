@@ -242,6 +242,7 @@ PetscErrorCode Engine::ListAll() {
     stats_.buffer = gn > 0 ? g / (PetscReal)gn : 0;
   } else stats_.buffer = par_.buffer;
   listed_   = true;
+  holders_valid_ = false; // the primitives are numbered anew: sweep every sphere's slots at the next evaluation
   searched_ = false;
   PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
   PetscFunctionReturn(0);

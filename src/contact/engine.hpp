@@ -237,6 +237,8 @@ private:
   bool                          has_time_ = false;
   PetscInt                      hist_overflow_ = 0; // contacts without a free history slot (warned once)
   bool                          spheres_ = false;   // some rank lists a sphere
+  std::vector<int>              holders_;           // own spheres holding a spring of this engine after the last evaluation
+  bool                          holders_valid_ = false; // false after a listing: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};

@@ -80,44 +80,34 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
   for (auto *a : adapters_) PetscCall(a->HistoryBegin());
   PetscInt overflow = 0;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
-    // 1. this engine's springs of every own sphere: those of a holder kept aside, all cleared
-    std::vector<int>           hoff(nl_, -1);
-    std::vector<HistorySlot>   old;
-    std::vector<HistorySlot *> hp(nl_, nullptr); // each own sphere's slots
+    // 1. the springs stay in their holder's slots: a contact's slot is found by its key (or a
+    //    free one taken, from zero) and marked seen; after the pairs, this engine's slots that
+    //    were not seen (contacts that opened) are freed, in the spheres that held any before
+    std::vector<std::uint16_t> seen(nl_, 0);
+    std::vector<HistorySlot *> hp(nl_, nullptr); // each holder's slots, looked up once
     auto                       slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
-    int nh = 0;
-    for (const auto *list : {&ss_, &st_})
-      for (const auto &p : *list)
-        if (hoff[p[0]] < 0) hoff[p[0]] = kHistorySlots * nh++;
-    old.resize((size_t)kHistorySlots * nh);
-    for (int i = 0; i < nl_; ++i) {
-      if (prim_[i].shape != kSphere) continue;
-      HistorySlot *h = hp[i] = slots(i);
-      if (!h) continue;
-      for (int k = 0; k < kHistorySlots; ++k) {
-        if (!h[k].key || SlotTag(h[k].key) != gtag_) continue;
-        if (hoff[i] >= 0) old[hoff[i] + k] = h[k];
-        h[k] = HistorySlot{};
-      }
-    }
-    // the spring of contact `key` of holder i: its last value (zero if new), kept back after
-    auto take = [&](int i, std::int64_t key) {
-      Vec3 s;
-      if (hoff[i] >= 0)
+    Vec3                       spare;            // the spring of a contact without a slot (it restarts from zero)
+    auto                       spring = [&](int i, std::int64_t key) -> double * {
+      HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
+      if (h) {
         for (int k = 0; k < kHistorySlots; ++k)
-          if (old[hoff[i] + k].key == key) s = Vec3(old[hoff[i] + k].s[0], old[hoff[i] + k].s[1], old[hoff[i] + k].s[2]);
-      return s;
+          if (h[k].key == key) {
+            seen[i] |= (std::uint16_t)(1u << k);
+            return h[k].s;
+          }
+        for (int k = 0; k < kHistorySlots; ++k)
+          if (!h[k].key) {
+            h[k] = HistorySlot{key, {0, 0, 0}};
+            seen[i] |= (std::uint16_t)(1u << k);
+            return h[k].s;
+          }
+        ++overflow;
+      }
+      spare = Vec3();
+      return &spare[0];
     };
-    auto keep = [&](int i, std::int64_t key, const Vec3 &s) {
-      HistorySlot *h = hp[i];
-      if (!h) return;
-      for (int k = 0; k < kHistorySlots; ++k)
-        if (!h[k].key) {
-          h[k] = HistorySlot{key, {s[0], s[1], s[2]}};
-          return;
-        }
-      ++overflow;
-    };
+    auto take = [&](double *p) { return Vec3(p[0], p[1], p[2]); };
+    auto keep = [&](double *p, const Vec3 &v) { p[0] = v[0], p[1] = v[1], p[2] = v[2]; };
     auto first = [&](double ratio, int a, int b) {
       if (!checked_initial_ && ratio > deep[0]) deep = {ratio, (double)a, (double)b};
     };
@@ -151,9 +141,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       c.mstar   = EffectiveMass(A.mass, B.mass);
       const GranularPair  &law = ForContact(*Law(A, B), c.mstar, tmp);
       const std::int64_t   key = SlotKey(gtag_, Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key));
-      Vec3                 s   = take(a, key);
+      double              *sp  = spring(a, key);
+      Vec3                 s   = take(sp);
       const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
-      keep(a, key, s);
+      keep(sp, s);
       const Vec3 F = r.fn + r.ft, nxF = cross(c.n, F);
       cf[a] += F;
       ct[a] += r.mroll - A.radius * nxF;
@@ -243,9 +234,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         std::uint64_t h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
         for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
         const std::int64_t   key = SlotKey(gtag_, h);
-        Vec3                 s   = take(si, key);
+        double              *sp  = spring(si, key);
+        Vec3                 s   = take(sp);
         const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
-        keep(si, key, s);
+        keep(sp, s);
         const Vec3 F = r.fn + r.ft;
         Force(si)[0] += F;
         Force(si)[1] += cross(-S.radius * ct.n, F) + r.mroll;
@@ -256,6 +248,23 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       }
       g = e;
     }
+    // free this engine's slots that no contact saw: in the spheres that held any after the last
+    // evaluation (all own spheres after a listing), and record which hold some now
+    auto sweep = [&](int i) {
+      if (prim_[i].shape != kSphere) return;
+      HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
+      if (!h) return;
+      for (int k = 0; k < kHistorySlots; ++k)
+        if (h[k].key && SlotTag(h[k].key) == gtag_ && !(seen[i] >> k & 1u)) h[k] = HistorySlot{};
+    };
+    if (!holders_valid_)
+      for (int i = 0; i < nl_; ++i) sweep(i);
+    else
+      for (int i : holders_) sweep(i);
+    holders_.clear();
+    for (int i = 0; i < nl_; ++i)
+      if (seen[i]) holders_.push_back(i);
+    holders_valid_ = true;
     return 0;
   }));
   for (auto *a : adapters_) PetscCall(a->HistoryEnd());
