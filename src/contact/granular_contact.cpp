@@ -115,20 +115,21 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     // 2. sphere-sphere: a is the holder (own), n from b to a. The centres, velocities and
     //    spins in compact arrays (a sphere's Vertices record is 96 bytes), forces summed there.
     const int         N = nl_ + ng_;
-    std::vector<Vec3> cx, cv, cw, cf, ct;
-    std::vector<char> cs;
+    std::vector<Vec3>   cx, cv, cw, cf, ct;
+    std::vector<double> cr;
+    std::vector<char>   cs;
     if (!ss_.empty()) {
-      cx.resize(N), cv.resize(N), cw.resize(N), cf.assign(N, Vec3()), ct.assign(N, Vec3()), cs.assign(N, 0);
+      cx.resize(N), cv.resize(N), cw.resize(N), cr.resize(N), cf.assign(N, Vec3()), ct.assign(N, Vec3()), cs.assign(N, 0);
       for (const auto &p : ss_)
         for (int i : p)
-          if (!cs[i]) cs[i] = 1, cx[i] = X(i)[0], cv[i] = V(i)[0], cw[i] = V(i)[1];
+          if (!cs[i]) cs[i] = 1, cx[i] = X(i)[0], cv[i] = V(i)[0], cw[i] = V(i)[1], cr[i] = P(i).radius;
     }
     for (const auto &p : ss_) {
-      const int        a = p[0], b = p[1];
-      const Primitive &A = P(a), &B = P(b);
-      const Vec3       d  = cx[a] - cx[b];
-      const double     rr = A.radius + B.radius, d2 = dot(d, d);
+      const int    a = p[0], b = p[1];
+      const Vec3   d  = cx[a] - cx[b];
+      const double rr = cr[a] + cr[b], d2 = dot(d, d);
       if (!(d2 < rr * rr)) continue;
+      const Primitive &A = P(a), &B = P(b);
       const double dist = std::sqrt(d2), ov = rr - dist;
       if (!(dist > 0)) throw std::runtime_error(adapters_[A.kind]->BodyName(A) + " and " + adapters_[B.kind]->BodyName(B) + " have the same centre");
       GranularPair        tmp;
