@@ -8,6 +8,8 @@
 //     along the normal, the diagonal of the edge, the body diagonal): one contact each, so
 //     the contact duration is Hertz's for a sphere on a flat (R* = r) within 2%, and the
 //     restitution 0.5 within 2%.
+//  3b. A sphere on a 30 degree incline rolls without slipping at (5/7) g sin(theta) for a
+//     large friction and slides at g (sin - mu cos) for a small one (2%).
 //  4. 27 spheres with friction and rolling resistance thrown at a floor of fixed cubes, with
 //     gravity: solved on PETSC_COMM_WORLD (slabs, migration every 10 steps) and on
 //     PETSC_COMM_SELF in the same process; final positions and velocities agree to 1e-9 m
@@ -80,8 +82,8 @@ PetscErrorCode Material(FDEMRigid rb, FDEMGranularLaw law, PetscReal e, PetscRea
   PetscFunctionReturn(0);
 }
 
-// A cube of side L (6 tetrahedra around its diagonal) centred at c, fixed.
-PetscErrorCode AddCube(FDEMRigid rb, PetscReal L, const PetscReal c[3], PetscInt mat, PetscInt *id) {
+// A cube of side L (6 tetrahedra around its diagonal) centred at c, turned by Q (row-major; null: none), fixed.
+PetscErrorCode AddCube(FDEMRigid rb, PetscReal L, const PetscReal c[3], PetscInt mat, PetscInt *id, const PetscReal *Q = nullptr) {
   std::vector<PetscReal> X;
   for (int i = 0; i < 8; ++i)
     for (int k = 0; k < 3; ++k) X.push_back(((i >> k) & 1) ? 0.5 * L : -0.5 * L);
@@ -95,7 +97,7 @@ PetscErrorCode AddCube(FDEMRigid rb, PetscReal L, const PetscReal c[3], PetscInt
     if (det < 0) std::swap(q[2], q[3]);
     for (int k = 0; k < 4; ++k) T.push_back(q[k]);
   }
-  PetscCall(FDEMRigidAddBodyFromMesh(rb, "cube", 8, X.data(), 6, T.data(), 2500, c, nullptr, nullptr, nullptr, id));
+  PetscCall(FDEMRigidAddBodyFromMesh(rb, "cube", 8, X.data(), 6, T.data(), 2500, c, Q, nullptr, nullptr, id));
   PetscCall(FDEMRigidFixBody(rb, *id));
   PetscCall(FDEMRigidSetBodyMaterial(rb, *id, mat));
   PetscFunctionReturn(0);
@@ -179,6 +181,50 @@ PetscErrorCode OnCube(const PetscReal n0[3], const char *what) {
   PetscFunctionReturn(0);
 }
 
+// A sphere released on an incline of 30 degrees (the top face of a fixed cube of side 1 m,
+// turned about y), Hertz-Mindlin with friction mu and restitution 0.5, gravity: it rolls
+// without slipping when mu >= (2/7) tan(theta), with acceleration (5/7) g sin(theta) and
+// spin v / r, and slides otherwise with g (sin(theta) - mu cos(theta)). The acceleration
+// along the slope from the speeds at 0.05 s and 0.15 s (after the release's transient),
+// within 2%; rolling: spin within 1% of v / r.
+PetscErrorCode Incline(PetscReal mu) {
+  FDEMRigid          rb;
+  FDEMContact        c;
+  PetscInt           m, cube, s;
+  FDEMRigidBodyState a, b;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
+  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, 0.5, mu, 0, &m));
+  const PetscReal th = PETSC_PI / 6, ct = PetscCosReal(th), st = PetscSinReal(th), L = 1.0;
+  // Q turns the cube about y: its top face's normal is n = (sin th, 0, cos th), and the
+  // direction in the face whose z falls is +-(-cos th, 0, sin th)
+  const PetscReal Q[9] = {ct, 0, st, 0, 1, 0, -st, 0, ct}, c0[3] = {0, 0, 0}, g[3] = {0, 0, -9.81};
+  PetscCall(FDEMRigidSetGravity(rb, g));
+  PetscCall(AddCube(rb, L, c0, m, &cube, Q));
+  const PetscReal n[3] = {st, 0, ct}, down[3] = {-ct, 0, st}; // the face's normal and a direction in the face
+  PetscReal       x[3];
+  for (int k = 0; k < 3; ++k) x[k] = (0.5 * L + R0) * n[k];
+  PetscCall(FDEMRigidAddSphere(rb, "ball", R0, RHO, m, x, nullptr, nullptr, &s));
+  PetscCall(FDEMContactCreate(rb, &c));
+  PetscReal sgn = down[2] < 0 ? 1 : -1; // the direction along the face whose z falls
+  PetscCall(FDEMRigidSolve(rb, 0, 0.05, 2e-5, 1000000, nullptr, nullptr));
+  PetscCall(FDEMRigidGetBodyState(rb, s, &a));
+  PetscCall(FDEMRigidSolve(rb, 0.05, 0.15, 2e-5, 1000000, nullptr, nullptr));
+  PetscCall(FDEMRigidGetBodyState(rb, s, &b));
+  PetscReal va = 0, vb = 0;
+  for (int k = 0; k < 3; ++k) va += sgn * a.v[k] * down[k], vb += sgn * b.v[k] * down[k];
+  const PetscReal acc = (vb - va) / 0.1, rolling = mu >= 2.0 / 7.0 * PetscTanReal(th);
+  const PetscReal theory = rolling ? 5.0 / 7.0 * 9.81 * st : 9.81 * (st - mu * ct);
+  const PetscReal w = PetscSqrtReal(b.omega_space[0] * b.omega_space[0] + b.omega_space[1] * b.omega_space[1] + b.omega_space[2] * b.omega_space[2]);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "incline 30 deg, mu %g (%s): acceleration %.5f m/s^2 (theory %.5f), spin %.4f rad/s, v/r %.4f rad/s\n", (double)mu, rolling ? "rolls" : "slides", (double)acc, (double)theory, (double)w, (double)(vb / R0)));
+  CHECK(std::fabs(acc - theory) < 0.02 * theory, "incline, mu %g: acceleration %g, theory %g", (double)mu, (double)acc, (double)theory);
+  if (rolling) CHECK(std::fabs(w - vb / R0) < 0.01 * vb / R0, "incline, mu %g: spin %g, rolling needs v / r = %g", (double)mu, (double)w, (double)(vb / R0));
+  else CHECK(w < 0.9 * vb / R0, "incline, mu %g: it should slide (spin %g below v / r = %g)", (double)mu, (double)w, (double)(vb / R0));
+  PetscCall(FDEMContactDestroy(&c));
+  PetscCall(FDEMRigidDestroy(&rb));
+  PetscFunctionReturn(0);
+}
+
 // 27 spheres thrown at a floor of 9 fixed cubes: state by id after nsteps.
 PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector<PetscReal> &out, PetscReal *E0, PetscReal *E1) {
   FDEMRigid        rb;
@@ -253,6 +299,8 @@ int main(int argc, char **argv) {
     PetscCall(OnCube(face, "face"));
     PetscCall(OnCube(edge, "edge"));
     PetscCall(OnCube(vertex, "vertex"));
+    PetscCall(Incline(0.5));
+    PetscCall(Incline(0.05));
   }
   for (bool diss : {false, true}) {
     std::vector<PetscReal> a, b;
