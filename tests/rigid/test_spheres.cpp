@@ -10,6 +10,8 @@
 //     restitution 0.5 within 2%.
 //  3b. A sphere on a 30 degree incline rolls without slipping at (5/7) g sin(theta) for a
 //     large friction and slides at g (sin - mu cos) for a small one (2%).
+//  3c. An oblique impact in gross sliding: the tangential speed drops by 2 mu v_n and the
+//     spin becomes 5 mu v_n / r (2%).
 //  4. 27 spheres with friction and rolling resistance thrown at a floor of fixed cubes, with
 //     gravity: solved on PETSC_COMM_WORLD (slabs, migration every 10 steps) and on
 //     PETSC_COMM_SELF in the same process; final positions and velocities agree to 1e-9 m
@@ -225,6 +227,35 @@ PetscErrorCode Incline(PetscReal mu) {
   PetscFunctionReturn(0);
 }
 
+// An oblique impact in gross sliding: a sphere strikes the top face of a fixed cube at
+// v_n = 1 m/s with v_t = 5 m/s, no spin, elastic (e = 1), friction mu = 0.1. It slides the
+// whole contact, so the friction impulse is mu times the normal one, 2 m v_n: it leaves
+// with v_t - 2 mu v_n and spin 5 mu v_n / r (I = 2/5 m r^2), v_n reversed (2%).
+PetscErrorCode Oblique() {
+  FDEMRigid          rb;
+  FDEMContact        c;
+  PetscInt           m, cube, s;
+  FDEMRigidBodyState st;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
+  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, -1, 0.1, 0, &m));
+  const PetscReal c0[3] = {0, 0, 0}, x[3] = {-0.05, 0, 0.05 + R0 + 2e-5}, v[3] = {5, 0, -1};
+  PetscCall(AddCube(rb, 0.1, c0, m, &cube));
+  PetscCall(FDEMRigidAddSphere(rb, "ball", R0, RHO, m, x, v, nullptr, &s));
+  PetscCall(FDEMContactCreate(rb, &c));
+  const PetscReal mass = 4.0 / 3.0 * PETSC_PI * R0 * R0 * R0 * RHO, estar = E / (2 * (1 - NU * NU)), tc = fdem::kernels::HertzContactTime(estar, R0, mass, 1.0);
+  PetscCall(FDEMRigidSolve(rb, 0, 2e-5 + 1.5 * tc, tc / 400, 1000000, nullptr, nullptr));
+  PetscCall(FDEMRigidGetBodyState(rb, s, &st));
+  const PetscReal vt = 5 - 2 * 0.1 * 1, w = 5 * 0.1 * 1 / R0;
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "oblique impact, sliding: v_t %.5f m/s (theory %.5f), spin %.4f rad/s (theory %.4f), v_n %.5f (theory 1)\n", (double)st.v[0], (double)vt, (double)st.omega_space[1], (double)w, (double)st.v[2]));
+  CHECK(std::fabs(st.v[0] - vt) < 0.02 * (5 - vt), "oblique impact: tangential speed %g, theory %g", (double)st.v[0], (double)vt);
+  CHECK(std::fabs(st.omega_space[1] - w) < 0.02 * w, "oblique impact: spin %g, theory %g", (double)st.omega_space[1], (double)w);
+  CHECK(std::fabs(st.v[2] - 1) < 0.02, "oblique impact: normal rebound %g, theory 1", (double)st.v[2]);
+  PetscCall(FDEMContactDestroy(&c));
+  PetscCall(FDEMRigidDestroy(&rb));
+  PetscFunctionReturn(0);
+}
+
 // 27 spheres thrown at a floor of 9 fixed cubes: state by id after nsteps.
 PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector<PetscReal> &out, PetscReal *E0, PetscReal *E1) {
   FDEMRigid        rb;
@@ -301,6 +332,7 @@ int main(int argc, char **argv) {
     PetscCall(OnCube(vertex, "vertex"));
     PetscCall(Incline(0.5));
     PetscCall(Incline(0.05));
+    PetscCall(Oblique());
   }
   for (bool diss : {false, true}) {
     std::vector<PetscReal> a, b;
