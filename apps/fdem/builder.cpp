@@ -12,8 +12,8 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstring>
+#include <cmath>
 
 namespace fdem::driver {
 namespace {
@@ -456,11 +456,17 @@ PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt>
 
 // The mesh's x and v by node id (3 per node), and the rigid state [x R v H] by body id (18 per body):
 // one by-id vector per part, in the models' layout `lx` (created here) with its scatter.
+// With spheres, also the rigid bodies' tangential-spring slots by body id (kSprings doubles each:
+// the swarm field "history", its bytes copied as they are).
+constexpr PetscInt kSprings = 48;
 struct Parts {
-  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr;
-  VecScatter sd = nullptr, sr = nullptr;
+  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr, h = nullptr, nh = nullptr;
+  VecScatter sd = nullptr, sr = nullptr, sh = nullptr;
   PetscErrorCode Destroy() {
     PetscFunctionBeginUser;
+    PetscCall(VecDestroy(&h));
+    PetscCall(VecDestroy(&nh));
+    PetscCall(VecScatterDestroy(&sh));
     PetscCall(VecDestroy(&r));
     PetscCall(VecDestroy(&ndx));
     PetscCall(VecDestroy(&ndv));
@@ -500,7 +506,35 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&id));
     PetscCall(ByIdScatter(s.comm, p.r, index, 18 * s.nrigid, &p.nr, &p.sr));
     PetscCall(PetscObjectSetName((PetscObject)p.nr, "rigid_xRvH"));
+    bool spheres = false;
+    for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].model == "sphere";
+    if (spheres) {
+      PetscCall(VecCreateMPI(s.comm, kSprings * n, PETSC_DETERMINE, &p.h));
+      std::vector<PetscInt> hindex(kSprings * n);
+      for (PetscInt b = 0; b < n; ++b)
+        for (int k = 0; k < kSprings; ++k) hindex[kSprings * b + k] = kSprings * (index[18 * b] / 18) + k;
+      PetscCall(ByIdScatter(s.comm, p.h, hindex, kSprings * s.nrigid, &p.nh, &p.sh));
+      PetscCall(PetscObjectSetName((PetscObject)p.nh, "rigid_springs"));
+    }
   }
+  PetscFunctionReturn(0);
+}
+
+// Copies the swarm's spring slots into h (to_vec) or back, bit for bit.
+PetscErrorCode RigidSprings(Sim &s, Vec h, bool to_vec) {
+  DM           sw;
+  PetscInt     n;
+  char        *f;
+  PetscScalar *a;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidGetDM(s.rb, &sw));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(VecGetArray(h, &a));
+  PetscCall(DMSwarmGetField(sw, "history", nullptr, nullptr, (void **)&f));
+  if (to_vec) std::memcpy(a, f, sizeof(PetscScalar) * kSprings * (size_t)n);
+  else std::memcpy(f, a, sizeof(PetscScalar) * kSprings * (size_t)n);
+  PetscCall(DMSwarmRestoreField(sw, "history", nullptr, nullptr, (void **)&f));
+  PetscCall(VecRestoreArray(h, &a));
   PetscFunctionReturn(0);
 }
 
@@ -552,6 +586,12 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
     PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecView(p.nr, v));
+    if (p.h) {
+      PetscCall(RigidSprings(s, p.h, true));
+      PetscCall(VecScatterBegin(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecView(p.nh, v));
+    }
   }
   PetscReal W;
   PetscCall(ExternalWork(s, &W));
@@ -594,6 +634,14 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
     PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(RigidFields(s, p.r, false));
+    PetscBool has = PETSC_FALSE;
+    if (p.h) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_springs", &has));
+    if (has) { // (a checkpoint written before the springs were kept has none: they start from zero)
+      PetscCall(VecLoad(p.nh, v));
+      PetscCall(VecScatterBegin(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(VecScatterEnd(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(RigidSprings(s, p.h, false));
+    }
   }
   PetscMPIInt rank0;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
