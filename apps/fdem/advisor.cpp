@@ -54,18 +54,18 @@ std::string Fmt(const char *f, double a, double b = 0, double c = 0, double d = 
 }
 } // namespace
 
-Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit) {
+Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool costs) {
   Advice          a;
   const Material *m    = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
   const bool      ball = SphereLike(b.shape);
   // the mesh (rigid skin and deformable mesh alike) for the costs
   kernels::TetMesh mesh;
   bool             meshed = false;
-  try {
-    mesh   = ShapeMesh(b);
-    meshed = true;
-  } catch (const std::exception &) {
-  }
+  if (costs || b.shape.kind == ShapeKind::Mesh) try {
+      mesh   = ShapeMesh(b);
+      meshed = true;
+    } catch (const std::exception &) {
+    }
   double size = SizeOf(b.shape);
   if (size < 0 && meshed) size = BoundingRadius(mesh);
   const double ntet = meshed ? (double)mesh.tets.size() : -1, nsurf = meshed ? (double)kernels::SurfaceTets(mesh).tets.size() : -1;
@@ -130,7 +130,7 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit) {
 void ApplyAuto(Scene &sc, double strain_limit, std::vector<std::string> &report) {
   for (Body &b : sc.bodies) {
     if (b.model != "auto") continue;
-    const Advice a = AdviseBody(sc, b, strain_limit);
+    const Advice a = AdviseBody(sc, b, strain_limit, false);
     if (a.model == "sphere" && b.shape.kind == ShapeKind::Ellipsoid) { // the sphere of the same volume
       b.shape.radius = std::cbrt(b.shape.size.x * b.shape.size.y * b.shape.size.z);
       b.shape.kind   = ShapeKind::Sphere;
@@ -148,9 +148,10 @@ std::vector<std::string> AdviceReport(const Scene &sc, double strain_limit, size
   size_t                     shown = 0;
   out.push_back(Fmt("model advice (doc/advisor.md; strain limit %.2g, -fdem_advise_strain; costs: CPU s per step on one core, from this project's benchmarks):", strain_limit));
   for (const Body &b : sc.bodies) {
-    const Advice a = AdviseBody(sc, b, strain_limit);
+    const bool   show = shown++ < max_lines;
+    const Advice a    = AdviseBody(sc, b, strain_limit, show); // the costs of the bodies shown only
     ++count[a.model];
-    if (shown++ >= max_lines) continue;
+    if (!show) continue;
     std::string cost;
     const char *names[3] = {"sphere", "rigid", "deformable"};
     for (int k = 0; k < 3; ++k) {

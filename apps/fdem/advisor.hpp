@@ -21,7 +21,9 @@ struct Advice {
 // and speeds): deformable where the expected strain exceeds strain_limit, or the body has
 // node sets, a velocity field or a fracturable material; else a sphere where the shape is
 // a sphere (or an ellipsoid within 10% of one), else a rigid polyhedron.
-Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit);
+// costs: also the costs per step and the deformable stable step (they mesh the shape; the
+// choice itself needs the mesh only for a shape read from a file).
+Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool costs = true);
 
 // Resolves every `model: auto` body to its advised model (an ellipsoid becomes the sphere
 // of its volume); appends one line per resolved body to `report`.

@@ -403,36 +403,27 @@ PetscErrorCode Engine::Search() {
         if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
         // apart for as long as neither moves more than its margin: not a candidate
         const double gap = A.margin + B.margin;
-        if (A.shape == kSphere || B.shape == kSphere) {
-          if (A.shape == kSphere && B.shape == kSphere) {
-            if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
-          } else {
-            const int s = A.shape == kSphere ? a : b, t = A.shape == kSphere ? b : a;
-            const double *pl = plane(t);
-            bool          out = false;
-            for (int k = 0; k < 4 && !out; ++k) out = pl[4 * k] * X(s)[0][0] + pl[4 * k + 1] * X(s)[0][1] + pl[4 * k + 2] * X(s)[0][2] - pl[4 * k + 3] > P(s).radius + gap;
-            if (out) continue;
-          }
-          if (A.kind == B.kind && A.body == B.body) continue; // a sphere is one primitive
-          if (Before(B, A)) std::swap(a, b);
-          if (a >= nl && b >= nl) continue;
-          if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue;
-          if (P(a).shape == kSphere && P(b).shape == kSphere) {
-            if (!HolderIsFirst(P(a), P(b))) std::swap(a, b);
-            ss_.push_back({a, b});
-          } else st_.push_back(P(a).shape == kSphere ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});
-          continue;
-        }
-        if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
-        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours
+        const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
+        if (spheres == 2) {
+          if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
+        } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
+          const int     s = A.shape == kSphere ? a : b;
+          const double *pl = plane(A.shape == kSphere ? b : a);
+          bool          out = false;
+          for (int k = 0; k < 4 && !out; ++k) out = pl[4 * k] * X(s)[0][0] + pl[4 * k + 1] * X(s)[0][1] + pl[4 * k + 2] * X(s)[0][2] - pl[4 * k + 3] > P(s).radius + gap;
+          if (out) continue;
+        } else if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
+        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)
           const Adapter *ad = adapters_[A.kind];
-          if (!((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
+          if (spheres || !((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
           if (!ad->SelfPair(A, B)) continue;
         }
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
-        pairs_.push_back({a, b});
+        if (spheres == 0) pairs_.push_back({a, b});
+        else if (spheres == 2) ss_.push_back(HolderIsFirst(P(a), P(b)) ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a}); // the holder first
+        else st_.push_back(P(a).shape == kSphere ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});                      // the sphere first
       }
       // a sphere's surface candidates grouped by body, in the order of the keys (as on any number of ranks)
       std::sort(st_.begin(), st_.end(), [&](const std::array<int, 2> &u, const std::array<int, 2> &w) {

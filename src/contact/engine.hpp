@@ -15,7 +15,6 @@
 #include <fdem/kernels/granular.hpp>
 #include <petscsf.h>
 #include <petscts.h>
-#include <fdem/rigid.h>
 
 #include <array>
 #include <cstdint>
@@ -243,8 +242,4 @@ private:
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };
-// The granular pair table of rb's materials (every pair mixed; a pair that cannot be mixed is
-// left empty, and an error names it if its bodies meet) set on engine with tag. Collective.
-PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag);
-
 } // namespace fdem::contact

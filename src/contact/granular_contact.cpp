@@ -277,29 +277,3 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
   PetscFunctionReturn(0);
 }
 } // namespace fdem::contact
-
-#include "../model/rigid_impl.hpp"
-namespace fdem::contact {
-PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag) {
-  const int                 n = (int)rb->gmats.size();
-  std::vector<GranularPair> table((size_t)n * n);
-  PetscFunctionBegin;
-  if (rb->gtable_n == (size_t)n && rb->gtable.size() == (size_t)n * n) { // made before (the Hertz damping is a root search)
-    engine.SetGranular(rb->gtable, n, tag);
-    PetscFunctionReturn(0);
-  }
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      const std::string what = "granular materials '" + rb->gmat_names[a] + "' and '" + rb->gmat_names[b] + "'";
-      try {
-        table[(size_t)a * n + b] = fdem::kernels::MixGranular(rb->gmats[a], rb->gmats[b], what.c_str());
-      } catch (const std::exception &) {
-        table[(size_t)a * n + b] = GranularPair{}; // empty: an error names the bodies if a sphere meets them
-      }
-    }
-  rb->gtable   = table;
-  rb->gtable_n = (size_t)n;
-  engine.SetGranular(std::move(table), n, tag);
-  PetscFunctionReturn(0);
-}
-} // namespace fdem::contact

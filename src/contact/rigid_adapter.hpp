@@ -49,4 +49,9 @@ private:
   std::vector<std::vector<std::int32_t>> surface_; // per skin: each tetrahedron's surface faces (Primitive::surface)
   char                  *hist_ = nullptr; // the swarm's "history" field between HistoryBegin and HistoryEnd
 };
+
+// The granular pair table of rb's materials (every pair mixed; a pair that cannot be mixed is
+// left empty, and an error names it if its bodies meet) set on engine with tag (made once, kept
+// in rb). Collective.
+PetscErrorCode SetGranularTable(FDEMRigid rb, Engine &engine, int tag);
 } // namespace fdem::contact

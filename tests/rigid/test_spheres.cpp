@@ -105,6 +105,22 @@ PetscErrorCode AddCube(FDEMRigid rb, PetscReal L, const PetscReal c[3], PetscInt
   PetscFunctionReturn(0);
 }
 
+// The scene of the single-contact checks: a fixed cube of side L centred at the origin (turned by
+// Q; null: none) and a Hertz sphere of radius R0 at x with velocity v, both of one material
+// (restitution e, < 0: elastic; friction mu), gravity g (null: none), contact attached.
+PetscErrorCode SphereOnCube(PetscReal e, PetscReal mu, PetscReal L, const PetscReal *Q, const PetscReal *g, const PetscReal x[3], const PetscReal *v, FDEMRigid *rb, FDEMContact *c, PetscInt *s) {
+  PetscInt        m, cube;
+  const PetscReal c0[3] = {0, 0, 0};
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, rb));
+  if (g) PetscCall(FDEMRigidSetGravity(*rb, g));
+  PetscCall(Material(*rb, FDEM_GRANULAR_HERTZ, e, mu, 0, &m));
+  PetscCall(AddCube(*rb, L, c0, m, &cube, Q));
+  PetscCall(FDEMRigidAddSphere(*rb, "ball", R0, RHO, m, x, v, nullptr, s));
+  PetscCall(FDEMContactCreate(*rb, c));
+  PetscFunctionReturn(0);
+}
+
 // Two spheres at relative speed 1 m/s along x: contact time, peak force, rebound.
 PetscErrorCode HeadOn(FDEMGranularLaw law, PetscReal e) {
   FDEMRigid   rb;
@@ -146,24 +162,17 @@ PetscErrorCode HeadOn(FDEMGranularLaw law, PetscReal e) {
 PetscErrorCode OnCube(const PetscReal n0[3], const char *what) {
   FDEMRigid   rb;
   FDEMContact c;
-  PetscInt    m, s, cube;
+  PetscInt    s;
   Record      r;
   PetscFunctionBeginUser;
-  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
-  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, -1, 0, 0, &m));
-  const PetscReal L = 0.1, c0[3] = {0, 0, 0};
-  PetscCall(AddCube(rb, L, c0, m, &cube));
-  PetscReal nn = PetscSqrtReal(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]), n[3], x[3], v[3];
-  for (int k = 0; k < 3; ++k) n[k] = n0[k] / nn;
-  // the touched feature is at h = (L/2) (n.n0)/|n0|... the face, edge or vertex point: 0.5 L n0 (n0 of 0/1 entries)
-  PetscReal gap = 2e-5, hx[3];
-  for (int k = 0; k < 3; ++k) hx[k] = 0.5 * L * n0[k];
-  for (int k = 0; k < 3; ++k) {
-    x[k] = hx[k] + (R0 + gap) * n[k];
+  const PetscReal L = 0.1, gap = 2e-5, nn = PetscSqrtReal(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
+  PetscReal       n[3], x[3], v[3];
+  for (int k = 0; k < 3; ++k) { // the face, edge or vertex touched is at 0.5 L n0 (n0 of 0/1 entries)
+    n[k] = n0[k] / nn;
+    x[k] = 0.5 * L * n0[k] + (R0 + gap) * n[k];
     v[k] = -1.0 * n[k];
   }
-  PetscCall(FDEMRigidAddSphere(rb, "s", R0, RHO, m, x, v, nullptr, &s));
-  PetscCall(FDEMContactCreate(rb, &c));
+  PetscCall(SphereOnCube(-1, 0, L, nullptr, nullptr, x, v, &rb, &c, &s));
   r.a = s;
   r.b = -1;
   for (int k = 0; k < 3; ++k) {
@@ -192,22 +201,17 @@ PetscErrorCode OnCube(const PetscReal n0[3], const char *what) {
 PetscErrorCode Incline(PetscReal mu) {
   FDEMRigid          rb;
   FDEMContact        c;
-  PetscInt           m, cube, s;
+  PetscInt           s;
   FDEMRigidBodyState a, b;
   PetscFunctionBeginUser;
-  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
-  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, 0.5, mu, 0, &m));
   const PetscReal th = PETSC_PI / 6, ct = PetscCosReal(th), st = PetscSinReal(th), L = 1.0;
   // Q turns the cube about y: its top face's normal is n = (sin th, 0, cos th), and the
   // direction in the face whose z falls is +-(-cos th, 0, sin th)
-  const PetscReal Q[9] = {ct, 0, st, 0, 1, 0, -st, 0, ct}, c0[3] = {0, 0, 0}, g[3] = {0, 0, -9.81};
-  PetscCall(FDEMRigidSetGravity(rb, g));
-  PetscCall(AddCube(rb, L, c0, m, &cube, Q));
+  const PetscReal Q[9] = {ct, 0, st, 0, 1, 0, -st, 0, ct}, g[3] = {0, 0, -9.81};
   const PetscReal n[3] = {st, 0, ct}, down[3] = {-ct, 0, st}; // the face's normal and a direction in the face
   PetscReal       x[3];
   for (int k = 0; k < 3; ++k) x[k] = (0.5 * L + R0) * n[k];
-  PetscCall(FDEMRigidAddSphere(rb, "ball", R0, RHO, m, x, nullptr, nullptr, &s));
-  PetscCall(FDEMContactCreate(rb, &c));
+  PetscCall(SphereOnCube(0.5, mu, L, Q, g, x, nullptr, &rb, &c, &s));
   PetscReal sgn = down[2] < 0 ? 1 : -1; // the direction along the face whose z falls
   PetscCall(FDEMRigidSolve(rb, 0, 0.05, 2e-5, 1000000, nullptr, nullptr));
   PetscCall(FDEMRigidGetBodyState(rb, s, &a));
@@ -234,15 +238,11 @@ PetscErrorCode Incline(PetscReal mu) {
 PetscErrorCode Oblique() {
   FDEMRigid          rb;
   FDEMContact        c;
-  PetscInt           m, cube, s;
+  PetscInt           s;
   FDEMRigidBodyState st;
   PetscFunctionBeginUser;
-  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
-  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, -1, 0.1, 0, &m));
-  const PetscReal c0[3] = {0, 0, 0}, x[3] = {-0.05, 0, 0.05 + R0 + 2e-5}, v[3] = {5, 0, -1};
-  PetscCall(AddCube(rb, 0.1, c0, m, &cube));
-  PetscCall(FDEMRigidAddSphere(rb, "ball", R0, RHO, m, x, v, nullptr, &s));
-  PetscCall(FDEMContactCreate(rb, &c));
+  const PetscReal x[3] = {-0.05, 0, 0.05 + R0 + 2e-5}, v[3] = {5, 0, -1};
+  PetscCall(SphereOnCube(-1, 0.1, 0.1, nullptr, nullptr, x, v, &rb, &c, &s));
   const PetscReal mass = 4.0 / 3.0 * PETSC_PI * R0 * R0 * R0 * RHO, estar = E / (2 * (1 - NU * NU)), tc = fdem::kernels::HertzContactTime(estar, R0, mass, 1.0);
   PetscCall(FDEMRigidSolve(rb, 0, 2e-5 + 1.5 * tc, tc / 400, 1000000, nullptr, nullptr));
   PetscCall(FDEMRigidGetBodyState(rb, s, &st));
