@@ -13,6 +13,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <string>
+#include <unistd.h>
 
 #include "../common/check.hpp"
 
@@ -50,14 +51,17 @@ PetscErrorCode Capture(MPI_Comm, const char *fmt, ...) {
   return 0;
 }
 std::string ViewText(TS ts) {
-  const char *path = "test_robustness_view.txt";
-  PetscViewer v;
+  // a file of this process's own: ctest runs the test's variants side by side in one folder
+  const std::string name = "test_robustness_view." + std::to_string((long long)getpid()) + ".txt";
+  const char       *path = name.c_str();
+  PetscViewer       v;
   if (PetscViewerASCIIOpen(PETSC_COMM_SELF, path, &v) || TSView(ts, v) || PetscViewerDestroy(&v)) return "";
   std::string text;
   char        line[512];
   FILE       *fp = std::fopen(path, "r");
   while (fp && std::fgets(line, sizeof line, fp)) text += line;
   if (fp) std::fclose(fp);
+  std::remove(path);
   return text;
 }
 
