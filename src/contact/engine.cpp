@@ -383,6 +383,7 @@ PetscErrorCode Engine::Search() {
   pairs_.clear();
   ss_.clear();
   st_.clear();
+  sp_fresh_ = true;
   {
     PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
       if (nl == 0) return 0;

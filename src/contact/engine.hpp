@@ -12,7 +12,7 @@
 #pragma once
 #include <fdem/contact.h>
 #include <fdem/kernels/contact.hpp>
-#include <fdem/kernels/granular.hpp>
+#include <fdem/kernels/granular_batch.hpp>
 #include <petscsf.h>
 #include <petscts.h>
 
@@ -230,6 +230,27 @@ private:
   std::vector<char>             made_;           // frames_[i] made at this evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
+  // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
+  // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring
+  // in a's slots (-1: none yet) and the pair's law (an index into gtable_; -1: none); and what
+  // stays fixed while the pair lasts.
+  struct SpherePair {
+    int a, b, slot, law;
+  };
+  struct SpherePairConst {
+    std::int64_t key;   // the spring's key in a's slots
+    double       mstar; // effective mass
+    double       cn;    // Hooke: the normal damping coefficient m* gamma_n
+  };
+  std::vector<SpherePair>       sp_;
+  std::vector<SpherePairConst>  spc_;
+  std::vector<int>              sph_;          // per compact sphere: its primitive
+  std::vector<double>           sr_;           // per compact sphere: its radius
+  bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
+  std::vector<Vec3>             sbuf_;         // per compact sphere at an evaluation: centre, velocity, spin, force, torque
+  std::vector<int>              stouch_, spos_; // at an evaluation: the touching pairs of sp_, and each one's place in batch_
+  fdem::kernels::GranularBatch  batch_;
+  std::vector<HistorySlot *>    shp_;          // per compact sphere at an evaluation: its slots (own spheres)
   std::vector<fdem::kernels::GranularPair> gtable_;
   int                           gnmat_ = 0, gtag_ = 0;
   PetscReal                     time_ = 0, last_time_ = 0;

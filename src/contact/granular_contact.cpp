@@ -3,6 +3,7 @@
 // springs kept in the slots of the sphere whose owner computes the contact.
 #include "engine.hpp"
 #include "../util/guard.hpp"
+#include <fdem/kernels/granular_batch.hpp>
 #include <fdem/kernels/sphere_surface.hpp>
 
 #include <algorithm>
@@ -112,54 +113,146 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       if (!checked_initial_ && ratio > deep[0]) deep = {ratio, (double)a, (double)b};
     };
 
-    // 2. sphere-sphere: a is the holder (own), n from b to a. The centres, velocities and
-    //    spins in compact arrays (a sphere's Vertices record is 96 bytes), forces summed there.
-    const int         N = nl_ + ng_;
-    std::vector<Vec3>   cx, cv, cw, cf, ct;
-    std::vector<double> cr;
-    std::vector<char>   cs;
-    if (!ss_.empty()) {
-      cx.resize(N), cv.resize(N), cw.resize(N), cr.resize(N), cf.assign(N, Vec3()), ct.assign(N, Vec3()), cs.assign(N, 0);
-      for (const auto &p : ss_)
-        for (int i : p)
-          if (!cs[i]) cs[i] = 1, cx[i] = X(i)[0], cv[i] = V(i)[0], cw[i] = V(i)[1], cr[i] = P(i).radius;
-    }
-    for (const auto &p : ss_) {
-      const int    a = p[0], b = p[1];
-      const Vec3   d  = cx[a] - cx[b];
-      const double rr = cr[a] + cr[b], d2 = dot(d, d);
-      if (!(d2 < rr * rr)) continue;
-      const Primitive &A = P(a), &B = P(b);
-      const double dist = std::sqrt(d2), ov = rr - dist;
-      if (!(dist > 0)) throw std::runtime_error(adapters_[A.kind]->BodyName(A) + " and " + adapters_[B.kind]->BodyName(B) + " have the same centre");
-      GranularPair        tmp;
-      GranularContact     c;
-      c.n       = (1.0 / dist) * d;
-      c.overlap = ov;
-      c.vrel    = cv[a] - cv[b] - cross(A.radius * cw[a] + B.radius * cw[b], c.n);
-      c.wrel    = cw[a] - cw[b];
-      c.rstar   = A.radius * B.radius / (A.radius + B.radius);
-      c.mstar   = EffectiveMass(A.mass, B.mass);
-      const GranularPair  &law = ForContact(*Law(A, B), c.mstar, tmp);
-      const std::int64_t   key = SlotKey(gtag_, Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key));
-      double              *sp  = spring(a, key);
-      Vec3                 s   = take(sp);
-      const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
-      keep(sp, s);
-      const Vec3 F = r.fn + r.ft, nxF = cross(c.n, F);
-      cf[a] += F;
-      ct[a] += r.mroll - A.radius * nxF;
-      cf[b] -= F;
-      ct[b] -= B.radius * nxF + r.mroll;
-      sums[0] += ElasticEnergy(law, ov, c.rstar, s);
-      sums[1] += 1;
-      first(ov / (0.5 * std::min(A.radius, B.radius)), a, b); // deep: half the smaller radius
-    }
-    for (int i = 0; i < (int)cs.size(); ++i)
-      if (cs[i]) {
-        Force(i)[0] += cf[i];
-        Force(i)[1] += ct[i];
+    // 2. sphere-sphere: a is the holder (own), n from b to a. After a search the pairs are
+    //    made once (sp_): sorted by holder, the spheres numbered compactly, each pair's law,
+    //    effective mass, Hooke damping and key, and the slot of its spring found by the key; a
+    //    pair keeps its slot from then on, takes a free one when it starts touching and frees
+    //    it when it stops. At each evaluation the centres, velocities and spins go to compact
+    //    arrays (a sphere's Vertices record is 96 bytes); the touching pairs are picked out,
+    //    their data laid out one array per quantity (GranularBatch), the law run over them in
+    //    vector instructions, and the forces summed per sphere in the order of the pairs.
+    if (sp_fresh_) {
+      std::vector<int> comp(nl_ + ng_, -1);
+      sph_.clear();
+      sr_.clear();
+      auto number = [&](int i) {
+        if (comp[i] < 0) {
+          comp[i] = (int)sph_.size();
+          sph_.push_back(i);
+          sr_.push_back(P(i).radius);
+        }
+        return comp[i];
+      };
+      std::sort(ss_.begin(), ss_.end());
+      for (const auto &p : ss_) number(p[0]);
+      sp_.resize(ss_.size());
+      spc_.resize(ss_.size());
+      for (size_t j = 0; j < ss_.size(); ++j) {
+        const int        a = ss_[j][0], b = ss_[j][1];
+        const Primitive &A = P(a), &B = P(b);
+        const int        ma = A.mat >= 0 ? A.mat : B.mat, mb = B.mat >= 0 ? B.mat : A.mat;
+        int              law = ma >= 0 && ma < gnmat_ && mb < gnmat_ ? ma * gnmat_ + mb : -1;
+        if (law >= 0 && !(gtable_[law].kn > 0) && !(gtable_[law].estar > 0)) law = -1; // Law() says why, if they touch
+        SpherePairConst &c = spc_[j];
+        c.key              = SlotKey(gtag_, Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key));
+        c.mstar            = EffectiveMass(A.mass, B.mass);
+        c.cn               = 0;
+        if (law >= 0) {
+          GranularPair tmp;
+          c.cn = c.mstar * ForContact(gtable_[law], c.mstar, tmp).gamma_n;
+        }
+        int          k = -1;
+        HistorySlot *h = hp[a] ? hp[a] : (hp[a] = slots(a));
+        for (int m = 0; h && m < kHistorySlots && k < 0; ++m)
+          if (h[m].key == c.key) k = m;
+        sp_[j] = SpherePair{number(a), number(b), k, law};
       }
+      sp_fresh_ = false;
+    }
+    const int ns = (int)sph_.size();
+    sbuf_.resize(5 * (size_t)ns);
+    Vec3 *cx = sbuf_.data(), *cv = cx + ns, *cw = cv + ns, *cf = cw + ns, *ct = cf + ns;
+    shp_.assign(ns, nullptr);
+    for (int c = 0; c < ns; ++c) {
+      const int i = sph_[c];
+      cx[c] = X(i)[0], cv[c] = V(i)[0], cw[c] = V(i)[1], cf[c] = ct[c] = Vec3();
+      if (i < nl_) shp_[c] = hp[i] ? hp[i] : (hp[i] = slots(i)); // a holder is own
+    }
+    // the touching pairs (picked without a branch on the outcome); a contact that opened frees its slot
+    stouch_.resize(sp_.size());
+    int  nt = 0, law0 = sp_.empty() ? 0 : sp_[0].law;
+    bool one_law = true;
+    for (size_t j = 0; j < sp_.size(); ++j) {
+      SpherePair  &q  = sp_[j];
+      const Vec3   d  = cx[q.a] - cx[q.b];
+      const double rr = sr_[q.a] + sr_[q.b];
+      const bool   t  = dot(d, d) < rr * rr;
+      stouch_[nt]     = (int)j;
+      nt += t;
+      one_law = one_law && (!t || q.law == law0);
+      if (!t && q.slot >= 0) shp_[q.a][q.slot] = HistorySlot{}, q.slot = -1;
+    }
+    // the batch in runs of one law (in the order of the pairs when there is one law)
+    spos_.resize(nt);
+    std::vector<std::array<int, 3>> runs; // law, begin, end
+    if (one_law) {
+      for (int m = 0; m < nt; ++m) spos_[m] = m;
+      if (nt) runs.push_back({law0, 0, nt});
+    } else {
+      std::vector<std::pair<int, int>> by(nt);
+      for (int m = 0; m < nt; ++m) by[m] = {sp_[stouch_[m]].law, m};
+      std::stable_sort(by.begin(), by.end(), [](const auto &u, const auto &w) { return u.first < w.first; });
+      for (int m = 0; m < nt; ++m) {
+        spos_[by[m].second] = m;
+        if (runs.empty() || runs.back()[0] != by[m].first) runs.push_back({by[m].first, m, m});
+        runs.back()[2] = m + 1;
+      }
+    }
+    using GB = fdem::kernels::GranularBatch;
+    batch_.Resize(nt);
+    double *const bdx = batch_[GB::DX], *const bdy = batch_[GB::DY], *const bdz = batch_[GB::DZ], *const bra = batch_[GB::RA], *const brb = batch_[GB::RB];
+    double *const bvx = batch_[GB::VX], *const bvy = batch_[GB::VY], *const bvz = batch_[GB::VZ];
+    double *const bwa[3] = {batch_[GB::WAX], batch_[GB::WAY], batch_[GB::WAZ]}, *const bwb[3] = {batch_[GB::WBX], batch_[GB::WBY], batch_[GB::WBZ]};
+    double *const bs[3] = {batch_[GB::SX], batch_[GB::SY], batch_[GB::SZ]}, *const bm = batch_[GB::MSTAR], *const bcn = batch_[GB::CN];
+    for (int m = 0; m < nt; ++m) {
+      const int   j = stouch_[m], o = spos_[m];
+      SpherePair &q = sp_[j];
+      const Vec3  d = cx[q.a] - cx[q.b], dv = cv[q.a] - cv[q.b];
+      if (!(dot(d, d) > 0)) throw std::runtime_error(adapters_[P(sph_[q.a]).kind]->BodyName(P(sph_[q.a])) + " and " + adapters_[P(sph_[q.b]).kind]->BodyName(P(sph_[q.b])) + " have the same centre");
+      if (q.law < 0) Law(P(sph_[q.a]), P(sph_[q.b])); // throws: no law for these two
+      HistorySlot *h = shp_[q.a];
+      if (q.slot < 0 && h) { // a new contact: a free slot
+        for (int k = 0; k < kHistorySlots && q.slot < 0; ++k)
+          if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k;
+        if (q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
+      }
+      bdx[o] = d[0], bdy[o] = d[1], bdz[o] = d[2], bra[o] = sr_[q.a], brb[o] = sr_[q.b];
+      bvx[o] = dv[0], bvy[o] = dv[1], bvz[o] = dv[2];
+      for (int k = 0; k < 3; ++k) {
+        bwa[k][o] = cw[q.a][k], bwb[k][o] = cw[q.b][k];
+        bs[k][o]  = q.slot >= 0 ? h[q.slot].s[k] : 0.0;
+      }
+      bm[o] = spc_[j].mstar, bcn[o] = spc_[j].cn;
+    }
+    for (const auto &r : runs) fdem::kernels::GranularBatchForces(gtable_[r[0]], dt, batch_, r[1], r[2]);
+    const double *const bf[3] = {batch_[GB::FX], batch_[GB::FY], batch_[GB::FZ]}, *const bta[3] = {batch_[GB::TAX], batch_[GB::TAY], batch_[GB::TAZ]};
+    const double *const btb[3] = {batch_[GB::TBX], batch_[GB::TBY], batch_[GB::TBZ]}, *const ben = batch_[GB::ENERGY], *const bov = batch_[GB::OVERLAP];
+    for (int m = 0; m < nt; ++m) {
+      const int         o = spos_[m];
+      const SpherePair &q = sp_[stouch_[m]];
+      for (int k = 0; k < 3; ++k) {
+        cf[q.a][k] += bf[k][o];
+        ct[q.a][k] += bta[k][o];
+        cf[q.b][k] -= bf[k][o];
+        ct[q.b][k] += btb[k][o];
+      }
+      if (q.slot >= 0) {
+        HistorySlot &h = shp_[q.a][q.slot];
+        for (int k = 0; k < 3; ++k) h.s[k] = bs[k][o];
+        seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
+      }
+      sums[0] += ben[o];
+    }
+    sums[1] += nt;
+    if (!checked_initial_)
+      for (int m = 0; m < nt; ++m) { // deep: an overlap of half the smaller radius
+        const SpherePair &q = sp_[stouch_[m]];
+        first(bov[spos_[m]] / (0.5 * std::min(sr_[q.a], sr_[q.b])), sph_[q.a], sph_[q.b]);
+      }
+    for (int c = 0; c < ns; ++c) {
+      Force(sph_[c])[0] += cf[c];
+      Force(sph_[c])[1] += ct[c];
+    }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
     //    triangles as one surface (one contact per touched face, edge or vertex)
