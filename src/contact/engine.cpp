@@ -383,7 +383,8 @@ PetscErrorCode Engine::Search() {
   pairs_.clear();
   ss_.clear();
   st_.clear();
-  sp_fresh_ = true;
+  sp_fresh_      = true;
+  holders_valid_ = false;
   {
     PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode { // collective: every rank enters, ranks without primitives do nothing
       if (nl == 0) return 0;

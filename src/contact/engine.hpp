@@ -257,8 +257,8 @@ private:
   bool                          has_time_ = false;
   PetscInt                      hist_overflow_ = 0; // contacts without a free history slot (warned once)
   bool                          spheres_ = false;   // some rank lists a sphere
-  std::vector<int>              holders_;           // own spheres holding a spring of this engine after the last evaluation
-  bool                          holders_valid_ = false; // false after a listing: every own sphere is swept
+  std::vector<int>              holders_;           // own spheres of st_ (their slots are swept at every evaluation)
+  bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};

@@ -342,8 +342,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       }
       g = e;
     }
-    // free this engine's slots that no contact saw: in the spheres that held any after the last
-    // evaluation (all own spheres after a listing), and record which hold some now
+    // free this engine's slots that no contact saw. A sphere-sphere pair frees its own slot when
+    // it opens; what else may leave a slot behind is a pair that is no longer a candidate (after
+    // a search or a listing: every own sphere is swept then) or a sphere-surface contact (the
+    // spheres of st_ are swept at every evaluation)
     auto sweep = [&](int i) {
       if (prim_[i].shape != kSphere) return;
       HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
@@ -351,13 +353,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       for (int k = 0; k < kHistorySlots; ++k)
         if (h[k].key && SlotTag(h[k].key) == gtag_ && !(seen[i] >> k & 1u)) h[k] = HistorySlot{};
     };
-    if (!holders_valid_)
+    if (!holders_valid_) {
       for (int i = 0; i < nl_; ++i) sweep(i);
-    else
+      holders_.clear();
+      for (const auto &p : st_)
+        if (p[0] < nl_ && (holders_.empty() || holders_.back() != p[0])) holders_.push_back(p[0]); // st_ is grouped by sphere
+    } else
       for (int i : holders_) sweep(i);
-    holders_.clear();
-    for (int i = 0; i < nl_; ++i)
-      if (seen[i]) holders_.push_back(i);
     holders_valid_ = true;
     return 0;
   }));

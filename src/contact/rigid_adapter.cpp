@@ -114,13 +114,12 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
   PetscCheck(!v || u_, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the rigid bodies' velocities, which this force evaluation did not provide");
   for (size_t m = 0; m < n; ++m) {
     const int i = which ? (*which)[m] : (int)m, j = prim_body_[i];
-    if (sphere_[j]) { // centre; velocity and angular velocity
+    if (sphere_[j]) { // centre; velocity and angular velocity (the engine reads no more of a sphere's record)
       const PetscInt b = body_[j];
-      x[i][0] = x[i][1] = x[i][2] = x[i][3] = ToVec3(L.x(q_, b));
+      x[i][0]          = ToVec3(L.x(q_, b));
       if (v) {
         v[i][0] = ToVec3(L.v(u_, b));
         v[i][1] = (1.0 / rb_->inertia[3 * b]) * ToVec3(L.H(u_, b)); // I = I 1: omega = H / I
-        v[i][2] = v[i][3] = Vec3();
       }
       continue;
     }
@@ -150,17 +149,17 @@ PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertic
   const RigidLayout L(rb_->n);
   PetscFunctionBegin;
   for (size_t m = 0; m < which.size();) { // the primitives of a body are consecutive
-    const int      j  = prim_body_[which[m]];
-    const PetscInt b  = body_[j];
-    const Vec3     xc = ToVec3(L.x(q_, b));
+    const int      j = prim_body_[which[m]];
+    const PetscInt b = body_[j];
     Vec3           F, M;
+    if (sphere_[j]) { // force on the centre and torque (a sphere is one primitive)
+      F = f[which[m]][0];
+      M = f[which[m]][1];
+      ++m;
+    }
+    const Vec3 xc = sphere_[j] ? Vec3() : ToVec3(L.x(q_, b));
     for (; m < which.size() && prim_body_[which[m]] == j; ++m) {
       const int i = which[m];
-      if (sphere_[j]) { // force on the centre and torque
-        F += f[i][0];
-        M += f[i][1];
-        continue;
-      }
       for (int k = 0; k < 4; ++k) {
         F += f[i][k];
         M += cross(x[i][k] - xc, f[i][k]);
@@ -182,8 +181,9 @@ PetscReal RigidAdapter::Move(size_t j) const {
   const PetscReal   *r  = &ref_[12 * j];
   PetscReal          dx = 0, dR = 0;
   for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
+  if (sphere_[j]) return std::sqrt(dx); // a sphere's surface does not move as it turns
   for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
-  return std::sqrt(dx) + (sphere_[j] ? 0 : radius_[j] * std::sqrt(dR)); // a sphere's surface does not move as it turns
+  return std::sqrt(dx) + radius_[j] * std::sqrt(dR);
 }
 
 PetscErrorCode RigidAdapter::MoveRatio(PetscReal *ratio) {
