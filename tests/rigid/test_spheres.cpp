@@ -67,20 +67,20 @@ PetscErrorCode Monitor(FDEMRigid rb, PetscInt, PetscReal t, void *ctx) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Material(FDEMRigid rb, FDEMGranularLaw law, PetscReal e, PetscReal mu, PetscReal mu_roll, PetscInt *m) {
+PetscErrorCode Material(FDEMRigid rb, FDEMGranularLaw law, PetscReal e, PetscReal mu, PetscReal mu_roll, PetscInt *m, const char *name = "glass", PetscReal young = E) {
   FDEMGranularMaterial g;
   PetscFunctionBeginUser;
   PetscCall(FDEMGranularMaterialInitialize(&g));
   g.law     = law;
   g.law_set = PETSC_TRUE;
-  g.young   = E;
+  g.young   = young;
   g.poisson = NU;
   g.kn      = 2e5;
   g.kt      = 2e5 * 2.0 / 7.0;
   if (e > 0) g.restitution = e;
   g.friction         = mu;
   g.rolling_friction = mu_roll;
-  PetscCall(FDEMRigidAddGranularMaterial(rb, "glass", &g, m));
+  PetscCall(FDEMRigidAddGranularMaterial(rb, name, &g, m));
   PetscFunctionReturn(0);
 }
 
@@ -256,11 +256,12 @@ PetscErrorCode Oblique() {
   PetscFunctionReturn(0);
 }
 
-// 27 spheres thrown at a floor of 9 fixed cubes: state by id after nsteps.
-PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector<PetscReal> &out, PetscReal *E0, PetscReal *E1) {
+// 27 spheres thrown at a floor of 9 fixed cubes: state by id after nsteps. With two materials,
+// every other sphere is of a second one, four times as stiff (the pairs then have three laws).
+PetscErrorCode Bed(MPI_Comm comm, bool dissipative, bool two, PetscInt nsteps, std::vector<PetscReal> &out, PetscReal *E0, PetscReal *E1) {
   FDEMRigid        rb;
   FDEMContact      c;
-  PetscInt         m, id;
+  PetscInt         m, m2, id;
   FDEMContactStats st;
   PetscFunctionBeginUser;
   PetscCall(FDEMRigidCreate(comm, &rb));
@@ -268,6 +269,7 @@ PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector
   PetscCall(FDEMRigidSetDomain(rb, lo, hi));
   PetscCall(FDEMRigidSetGravity(rb, g));
   PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, dissipative ? 0.6 : -1, dissipative ? 0.4 : 0, dissipative ? 0.05 : 0, &m));
+  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, dissipative ? 0.6 : -1, dissipative ? 0.4 : 0, dissipative ? 0.05 : 0, &m2, "hard", 4 * E));
   const PetscReal L = 0.04;
   for (int i = -1; i <= 1; ++i)
     for (int j = -1; j <= 1; ++j) {
@@ -278,7 +280,7 @@ PetscErrorCode Bed(MPI_Comm comm, bool dissipative, PetscInt nsteps, std::vector
     for (int j = -1; j <= 1; ++j)
       for (int k = 0; k < 3; ++k) {
         const PetscReal x[3] = {i * 0.021 + 0.002 * k, j * 0.021 - 0.001 * i, 0.012 + k * 0.0215}, v[3] = {0.2 * j, -0.1 * k, -0.5 - 0.2 * i}, w[3] = {30.0 * k, 0, -20.0 * i};
-        PetscCall(FDEMRigidAddSphere(rb, "s", R0, RHO, m, x, v, w, &id));
+        PetscCall(FDEMRigidAddSphere(rb, "s", R0, RHO, two && (i + j + k) % 2 ? m2 : m, x, v, w, &id));
       }
   PetscCall(FDEMContactCreate(rb, &c));
   PetscCall(FDEMRigidSetFromOptions(rb));
@@ -334,19 +336,20 @@ int main(int argc, char **argv) {
     PetscCall(Incline(0.05));
     PetscCall(Oblique());
   }
-  for (bool diss : {false, true}) {
+  for (int variant = 0; variant < 3; ++variant) {
+    const bool             diss = variant == 1, two = variant == 2;
     std::vector<PetscReal> a, b;
     PetscReal              e0, e1, f0, f1;
     const PetscInt         nsteps = 8000;
-    PetscCall(Bed(PETSC_COMM_WORLD, diss, nsteps, a, &e0, &e1));
-    PetscCall(Bed(PETSC_COMM_SELF, diss, nsteps, b, &f0, &f1));
+    PetscCall(Bed(PETSC_COMM_WORLD, diss, two, nsteps, a, &e0, &e1));
+    PetscCall(Bed(PETSC_COMM_SELF, diss, two, nsteps, b, &f0, &f1));
     PetscReal dx = 0, dv = 0;
     for (size_t i = 0; i < a.size(); i += 6)
       for (int k = 0; k < 3; ++k) {
         dx = std::max(dx, std::fabs(a[i + k] - b[i + k]));
         dv = std::max(dv, std::fabs(a[i + 3 + k] - b[i + 3 + k]));
       }
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bed (%s): %d ranks against 1: max |dx| %.3e m, |dv| %.3e m/s; energy %.6e -> %.6e J\n", diss ? "restitution 0.6, friction, rolling" : "elastic, frictionless", size, (double)dx, (double)dv, (double)e0, (double)e1));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bed (%s): %d ranks against 1: max |dx| %.3e m, |dv| %.3e m/s; energy %.6e -> %.6e J\n", diss ? "restitution 0.6, friction, rolling" : two ? "elastic, frictionless, two materials" : "elastic, frictionless", size, (double)dx, (double)dv, (double)e0, (double)e1));
     CHECK(dx < 1e-9 && dv < 1e-7, "bed: the parallel run differs from the serial one by %g m, %g m/s", (double)dx, (double)dv);
     if (!diss) CHECK(std::fabs(e1 - e0) < 1e-3 * std::fabs(e0), "bed: energy %g -> %g, not conserved to 1e-3", (double)e0, (double)e1);
     else CHECK(e1 < 0.9 * e0, "bed: the dissipative contacts (only they dissipate) took less than 10%% of the energy (%g -> %g): no contacts?", (double)e0, (double)e1);

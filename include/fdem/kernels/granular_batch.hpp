@@ -1,5 +1,5 @@
 // The granular law of kernels/granular.hpp for many touching sphere-sphere contacts at
-// once (doc/spheres.md, "Speed"): the contacts' data in arrays, one array per quantity,
+// once (doc/spheres.md, "The race at the level of the driver"): the contacts' data in arrays, one array per quantity,
 // so that the compiler runs several contacts per vector instruction (two with SSE2, four
 // with AVX2 on a processor that has it, chosen when the program starts). The same
 // arithmetic as GranularForce, in another order: the results agree to round-off
