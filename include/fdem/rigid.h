@@ -44,6 +44,15 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidFor
 /* The box split into slabs along its longest axis, one per rank, that decides which rank holds a body
    until the first migration (then a recursive bisection of the bodies, FDEMRigidMigrate). */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetDomain(FDEMRigid rb, const PetscReal lo[3], const PetscReal hi[3]);
+/* Periodic boundaries along the axes k with periodic[k] (after FDEMRigidSetDomain, before adding
+   bodies): the domain's box is the periodic cell, of period hi[k] - lo[k]. A body near one side
+   touches the bodies near the other (their images, doc/contact_engine.md); FDEMRigidMigrate puts
+   the centres back into [lo, hi) and counts the periods each crossed in its swarm field "image"
+   (3 PetscInt: its unwrapped centre is x + image (hi - lo)). Every body must be smaller than half
+   the period, and move less than a quarter period between two migrations. */
+PETSC_EXTERN PetscErrorCode FDEMRigidSetPeriodic(FDEMRigid rb, const PetscBool periodic[3]);
+/* The periodic axes and the domain's box (any argument may be NULL). */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetPeriodic(FDEMRigid rb, PetscBool periodic[3], PetscReal lo[3], PetscReal hi[3]);
 
 /* Adds a body given by its principal data. Call on every rank with the same
    arguments: the rank whose slab holds x keeps it. omega is the space-frame

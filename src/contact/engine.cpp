@@ -255,6 +255,10 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
     gx_.resize(ng_);
     PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+    if (shifted_) // periodic images: their vertices a period away
+      for (int g = 0; g < ng_; ++g)
+        for (auto &v : gx_[g])
+          for (int k = 0; k < 3; ++k) v[k] += gshift_[g][k];
   }
   if (v) {
     gv_.resize(ng_);
@@ -281,8 +285,30 @@ PetscErrorCode Engine::Search() {
     prim_[i].margin = std::max(margin[i], (double)half);
     PrimBox(prim_[i], x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
   }
+  if (periodic_) { // a pair must not meet both directly and through an image, and one period of shift must reach every image
+    std::string bad;
+    for (int i = 0; i < nl && bad.empty(); ++i)
+      for (int k = 0; k < 3 && bad.empty(); ++k) {
+        if (!(period_[k] > 0)) continue;
+        const Primitive &p = prim_[i];
+        const double     lo = boxes[6 * (size_t)i + k], hi = boxes[6 * (size_t)i + 3 + k], c = 0.5 * (lo + hi);
+        char             msg[256];
+        if (!(hi - lo < 0.5 * period_[k])) PetscCall(PetscSNPrintf(msg, sizeof(msg), "spans %g along the periodic axis %c with its search margin, more than half the period %g; make the periodic cell larger than twice the largest body", hi - lo, "xyz"[k], period_[k]));
+        else if (!(c >= plo_[k] - 0.25 * period_[k] && c <= plo_[k] + 1.25 * period_[k])) PetscCall(PetscSNPrintf(msg, sizeof(msg), "is at %g along the periodic axis %c, more than a quarter period outside the cell [%g, %g]; it moved too far between two migrations (migrate more often)", c, "xyz"[k], plo_[k], plo_[k] + period_[k]));
+        else continue;
+        bad = adapters_[p.kind]->BodyName(p) + " (" + adapters_[p.kind]->ElementName(p) + ") " + msg;
+      }
+    int mine = bad.empty() ? size_ : rank_, first;
+    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm_));
+    if (first < size_) {
+      char msg[512] = "";
+      if (rank_ == first) PetscCall(PetscStrncpy(msg, bad.c_str(), sizeof(msg)));
+      PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, first, comm_));
+      SETERRQ(comm_, PETSC_ERR_USER_INPUT, "%s: %s", who_.c_str(), msg);
+    }
+  }
   std::vector<double> box(BW * NGROUP * NBOX, INFINITY);
-  if (size_ > 1) { // one rank: no one to send to
+  if (size_ > 1 || periodic_) { // one rank without periodic images: no one to send to
     std::vector<double> size(nl), med;
     for (int i = 0; i < nl; ++i)
       for (int k = 0; k < 3; ++k) size[i] = std::max(size[i], boxes[6 * i + 3 + k] - boxes[6 * i + k]);
@@ -336,34 +362,67 @@ PetscErrorCode Engine::Search() {
   std::vector<double> all(BW * nbox * (size_t)size_);
   PetscCallMPI(MPI_Allgather(box.data(), BW * nbox, MPI_DOUBLE, all.data(), BW * nbox, MPI_DOUBLE, comm_));
   // 1. who needs which of my primitives: a rank with a primitive near it that can pair with it,
-  //    unless I compute every such pair (mine moves, theirs in that box are all fixed)
+  //    unless I compute every such pair (mine moves, theirs in that box are all fixed). With
+  //    periodic boundaries also as an image, shifted by a period along periodic axes, to any
+  //    rank (this one too): shift code c = 9 (s_x + 1) + 3 (s_y + 1) + (s_z + 1), s_k in
+  //    {-1, 0, 1}, sent as 27 i + c.
+  std::vector<int> codes{13};
+  if (periodic_)
+    for (int c = 0; c < 27; ++c) {
+      const int sh[3] = {c / 9 - 1, c / 3 % 3 - 1, c % 3 - 1};
+      if (c != 13 && (sh[0] == 0 || period_[0] > 0) && (sh[1] == 0 || period_[1] > 0) && (sh[2] == 0 || period_[2] > 0)) codes.push_back(c);
+    }
   std::vector<std::vector<PetscInt>> send(size_);
   for (int s = 0; s < size_; ++s) {
-    if (s == rank_) continue;
-    for (int i = 0; i < nl; ++i) {
-      const Primitive &p    = prim_[i];
-      const bool       self = (par_.self && adapters_[p.kind]->CanSelfContact()) || adapters_[p.kind]->AlwaysSelfContact(p.body);
-      const double    *pb   = &boxes[6 * (size_t)i];
-      for (int q = 0; q < nbox; ++q) {
-        const double  *b    = &all[BW * ((size_t)s * nbox + q)];
-        if (!(b[0] < INFINITY)) continue; // empty
-        const unsigned mask = (unsigned)b[8];
-        bool           in   = false;
-        for (int k = 0; k < (int)adapters_.size() && !in; ++k) in = (mask >> k & 1u) && allow_[p.kind][k];
-        // no pairs within one body without self-contact
-        in = in && (self || b[6] != (double)p.body || b[7] != (double)p.kind);
-        // theirs all fixed: mine fixed too (no pair) or mine moves (I compute them all)
-        in = in && b[9] != 0;
-        for (int k = 0; k < 3 && in; ++k) in = pb[3 + k] >= b[k] && pb[k] <= -b[3 + k];
-        if (in) {
-          send[s].push_back(i);
-          break;
+    double ulo[3] = {INFINITY, INFINITY, INFINITY}, uhi[3] = {-INFINITY, -INFINITY, -INFINITY}; // rank s's region: the union of its boxes
+    for (int q = 0; q < nbox; ++q)
+      for (int k = 0; k < 3; ++k) {
+        ulo[k] = std::min(ulo[k], all[BW * ((size_t)s * nbox + q) + k]);
+        uhi[k] = std::max(uhi[k], -all[BW * ((size_t)s * nbox + q) + 3 + k]);
+      }
+    for (int c : codes) {
+      if (s == rank_ && c == 13) continue;
+      const double sh[3] = {(c / 9 - 1) * period_[0], (c / 3 % 3 - 1) * period_[1], (c % 3 - 1) * period_[2]};
+      for (int i = 0; i < nl; ++i) {
+        const Primitive &p    = prim_[i];
+        const double    *pb   = &boxes[6 * (size_t)i];
+        bool             near = true;
+        for (int k = 0; k < 3 && near; ++k) near = pb[3 + k] + sh[k] >= ulo[k] && pb[k] + sh[k] <= uhi[k];
+        if (!near) continue;
+        const bool self = (par_.self && adapters_[p.kind]->CanSelfContact()) || adapters_[p.kind]->AlwaysSelfContact(p.body);
+        for (int q = 0; q < nbox; ++q) {
+          const double  *b    = &all[BW * ((size_t)s * nbox + q)];
+          if (!(b[0] < INFINITY)) continue; // empty
+          const unsigned mask = (unsigned)b[8];
+          bool           in   = false;
+          for (int k = 0; k < (int)adapters_.size() && !in; ++k) in = (mask >> k & 1u) && allow_[p.kind][k];
+          // no pairs within one body without self-contact
+          in = in && (self || b[6] != (double)p.body || b[7] != (double)p.kind);
+          // theirs all fixed: mine fixed too (no pair) or mine moves (I compute them all)
+          in = in && b[9] != 0;
+          for (int k = 0; k < 3 && in; ++k) in = pb[3 + k] + sh[k] >= b[k] && pb[k] + sh[k] <= -b[3 + k];
+          if (in) {
+            send[s].push_back(periodic_ ? 27 * (PetscInt)i + c : i);
+            break;
+          }
         }
       }
     }
   }
   std::vector<PetscSFNode> ghosts;
-  PetscCall(fdem::HaloExchange(comm_, send, ghosts));
+  PetscCall(fdem::HaloExchange(comm_, send, ghosts, periodic_));
+  gshift_.assign(ghosts.size(), {0, 0, 0});
+  shifted_ = false;
+  if (periodic_) {
+    for (size_t g = 0; g < ghosts.size(); ++g) {
+      const int c     = (int)(ghosts[g].index % 27);
+      ghosts[g].index = ghosts[g].index / 27;
+      gshift_[g]      = {(c / 9 - 1) * period_[0], (c / 3 % 3 - 1) * period_[1], (c % 3 - 1) * period_[2]};
+      shifted_        = shifted_ || c != 13;
+    }
+    for (auto &l : send)
+      for (PetscInt &i : l) i /= 27;
+  }
   // 2. the SF (one Vertices record per primitive) and the ghosts' static records (a one-off SF)
   ng_ = (int)ghosts.size();
   PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), &sf_));

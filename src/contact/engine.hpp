@@ -171,6 +171,17 @@ public:
   }
   // The TS whose first evaluation checks the time step (not referenced; null: no automatic check).
   void SetTS(TS ts) { ts_ = ts; }
+  // Periodic boundaries: period[k] > 0 makes axis k periodic with that period (0: not). A
+  // primitive near one side then meets the others' images across it: images are ghosts, on this
+  // rank or another, with the period added to their vertices (doc/contact_engine.md). The
+  // adapters keep their bodies' positions within one period (the rigid model wraps them).
+  // lo: the cell's lower corner; the adapters keep every primitive within a quarter period of
+  // the cell (checked at each search).
+  void SetPeriodic(const double lo[3], const double period[3]) {
+    for (int k = 0; k < 3; ++k) period_[k] = period[k] > 0 ? period[k] : 0, plo_[k] = lo[k];
+    periodic_ = period_[0] > 0 || period_[1] > 0 || period_[2] > 0;
+    searched_ = false;
+  }
   // One evaluation: gather, re-search when needed, pair loop, forces back. Collective.
   PetscErrorCode Evaluate();
   // The time of the next evaluation: a granular contact's tangential spring advances by
@@ -257,6 +268,10 @@ private:
   bool                          has_time_ = false;
   PetscInt                      hist_overflow_ = 0; // contacts without a free history slot (warned once)
   bool                          spheres_ = false;   // some rank lists a sphere
+  bool                          periodic_ = false;
+  double                        period_[3] = {0, 0, 0}, plo_[3] = {0, 0, 0};
+  std::vector<std::array<double, 3>> gshift_;       // per ghost: what is added to its vertices (periodic images; 0 otherwise)
+  bool                          shifted_ = false;   // some ghost here is an image
   std::vector<int>              holders_;           // own spheres of st_ (their slots are swept at every evaluation)
   bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;

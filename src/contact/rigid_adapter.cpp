@@ -111,7 +111,7 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
   Vec3              xc, vc, w;
   Mat3              R;
   PetscFunctionBegin;
-  PetscCheck(!v || u_, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the rigid bodies' velocities, which this force evaluation did not provide");
+  PetscCheck(!v || u_ || n == 0, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: damping or friction needs the rigid bodies' velocities, which this force evaluation did not provide");
   for (size_t m = 0; m < n; ++m) {
     const int i = which ? (*which)[m] : (int)m, j = prim_body_[i];
     if (sphere_[j]) { // centre; velocity and angular velocity (the engine reads no more of a sphere's record)

@@ -34,7 +34,12 @@ PetscErrorCode ContactForces(FDEMRigid rb, PetscReal t, const PetscScalar *q, Pe
 
 // At FDEMRigidSetUpTS: the local bodies changed (migration): start over.
 PetscErrorCode ContactSetUp(FDEMRigid rb, void *ctx) {
+  PetscBool per[3];
+  PetscReal lo[3], hi[3], period[3];
   PetscFunctionBegin;
+  PetscCall(FDEMRigidGetPeriodic(rb, per, lo, hi));
+  for (int k = 0; k < 3; ++k) period[k] = per[k] ? hi[k] - lo[k] : 0;
+  ((FDEMContact)ctx)->engine.SetPeriodic(lo, period);
   PetscCall(fdem::contact::SetGranularTable(rb, ((FDEMContact)ctx)->engine, 0));
   ((FDEMContact)ctx)->engine.Reset();
   PetscFunctionReturn(0);

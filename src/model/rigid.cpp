@@ -218,6 +218,10 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   PetscCall(DMSwarmGetField(rb->sw, "history", nullptr, nullptr, (void **)&hist));
   std::memset(hist + fdem::model::kHistoryBytes * (size_t)b, 0, fdem::model::kHistoryBytes);
   PetscCall(DMSwarmRestoreField(rb->sw, "history", nullptr, nullptr, (void **)&hist));
+  PetscInt *image;
+  PetscCall(DMSwarmGetField(rb->sw, "image", nullptr, nullptr, (void **)&image));
+  for (int k = 0; k < 3; ++k) image[3 * b + k] = 0;
+  PetscCall(DMSwarmRestoreField(rb->sw, "image", nullptr, nullptr, (void **)&image));
   PetscFunctionReturn(0);
 }
 
@@ -247,6 +251,7 @@ PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *out) {
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "skin", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "fixed", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterUserStructField(rb->sw, "history", fdem::model::kHistoryBytes));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "image", 3, PETSC_INT)); // periods crossed (FDEMRigidSetPeriodic)
   PetscCall(DMSwarmFinalizeFieldRegister(rb->sw));
   PetscCall(DMSwarmSetLocalSizes(rb->sw, 0, 16));
   *out = rb;
@@ -688,7 +693,7 @@ static PetscErrorCode SortLocalById(FDEMRigid rb) {
   PetscCall(DMSwarmRestoreField(rb->sw, "id", nullptr, nullptr, (void **)&id));
   if (sorted) PetscFunctionReturn(0);
   // every field, its bytes per body from its block size and type (the spring slots are raw bytes)
-  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", DMSwarmField_pid, DMSwarmField_rank};
+  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", "image", DMSwarmField_pid, DMSwarmField_rank};
   std::vector<char> tmp;
   for (const char *name : names) {
     char         *data;
@@ -708,10 +713,56 @@ static PetscErrorCode SortLocalById(FDEMRigid rb) {
   PetscFunctionReturn(0);
 }
 
+// Periodic axes: every body's centre back into [lo, hi), the periods it crossed counted in its
+// field "image" (its unwrapped centre is x + image (hi - lo)).
+static PetscErrorCode WrapPeriodic(FDEMRigid rb) {
+  PetscInt   n, *image;
+  PetscReal *x;
+  PetscFunctionBegin;
+  if (!rb->periodic[0] && !rb->periodic[1] && !rb->periodic[2]) PetscFunctionReturn(0);
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscCall(DMSwarmGetField(rb->sw, "image", nullptr, nullptr, (void **)&image));
+  for (PetscInt b = 0; b < n; ++b)
+    for (int k = 0; k < 3; ++k) {
+      if (!rb->periodic[k]) continue;
+      const PetscReal L = rb->hi[k] - rb->lo[k], m = std::floor((x[3 * b + k] - rb->lo[k]) / L);
+      if (m == 0 || !std::isfinite(m)) continue;
+      x[3 * b + k] -= m * L;
+      if (x[3 * b + k] >= rb->hi[k]) x[3 * b + k] -= L, image[3 * b + k] += 1; // round-off
+      if (x[3 * b + k] < rb->lo[k]) x[3 * b + k] += L, image[3 * b + k] -= 1;
+      image[3 * b + k] += (PetscInt)m;
+    }
+  PetscCall(DMSwarmRestoreField(rb->sw, "image", nullptr, nullptr, (void **)&image));
+  PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidSetPeriodic(FDEMRigid rb, const PetscBool periodic[3]) {
+  PetscInt n;
+  PetscFunctionBegin;
+  PetscCheck(rb->axis >= 0, rb->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMRigidSetPeriodic: set the domain first (FDEMRigidSetDomain): its box is the periodic cell");
+  PetscCall(DMSwarmGetSize(rb->sw, &n));
+  PetscCheck(n == 0, rb->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMRigidSetPeriodic: make the boundaries periodic before adding bodies");
+  for (int k = 0; k < 3; ++k) rb->periodic[k] = periodic[k] ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidGetPeriodic(FDEMRigid rb, PetscBool periodic[3], PetscReal lo[3], PetscReal hi[3]) {
+  PetscFunctionBegin;
+  for (int k = 0; k < 3; ++k) {
+    if (periodic) periodic[k] = rb->periodic[k];
+    if (lo) lo[k] = rb->lo[k];
+    if (hi) hi[k] = rb->hi[k];
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscInt  n, *rk;
   PetscReal *x;
   PetscFunctionBegin;
+  PetscCall(WrapPeriodic(rb));
   if (rb->size == 1) PetscFunctionReturn(0);
   PetscCall(BalanceRcb(rb));
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));

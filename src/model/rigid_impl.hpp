@@ -78,6 +78,7 @@ struct _n_FDEMRigid {
   PetscReal         g[3] = {0, 0, 0};
   PetscReal         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int               axis = -1; // slab axis; -1: rank 0 holds everything
+  PetscBool         periodic[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}; // periodic along axis k with period hi - lo (FDEMRigidSetPeriodic)
   // the partition (FDEMRigidMigrate): a recursive coordinate bisection of the moving bodies'
   // centres, weighted by their contact primitives; node 0 is the root, a leaf names its rank.
   // Empty (before the first migration, or fewer moving bodies than ranks): equal slabs of

@@ -240,6 +240,11 @@ PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
   IS           isq, isp;
   PetscFunctionBegin;
   PetscCheck(s->rb || s->dfm, s->comm, PETSC_ERR_ARG_WRONGSTATE, "FDEMSceneSetUpTS: the scene is empty; give it rigid bodies (FDEMSceneSetRigid) and/or a mesh (FDEMSceneSetDeformable)");
+  if (s->rb && s->dfm) {
+    PetscBool per[3];
+    PetscCall(FDEMRigidGetPeriodic(s->rb, per, nullptr, nullptr));
+    PetscCheck(!per[0] && !per[1] && !per[2], s->comm, PETSC_ERR_SUP, "FDEMSceneSetUpTS: periodic boundaries hold rigid bodies and spheres only; a scene with a deformable mesh cannot be periodic");
+  }
   if (s->rb) PetscCall(FDEMRigidGetNumBodies(s->rb, &nr, &s->nr_global));
   if (s->dfm) PetscCall(FDEMDeformableGetSizes(s->dfm, nullptr, nullptr, &nd, nullptr));
   s->nr = nr;
