@@ -66,8 +66,17 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
   const Scene &sc = *s.scene;
   PetscFunctionBeginUser;
   PetscCall(FDEMRigidCreate(s.comm, &s.rb));
-  const PetscReal l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
-  PetscCall(FDEMRigidSetDomain(s.rb, l, h));
+  PetscReal       l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+  const PetscReal g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
+  if (sc.periodic.Any()) { // the periodic cell is the domain along its axes
+    PetscBool per[3];
+    for (int k = 0; k < 3; ++k) {
+      per[k] = sc.periodic.axis[k] ? PETSC_TRUE : PETSC_FALSE;
+      if (per[k]) l[k] = sc.periodic.lo[k], h[k] = sc.periodic.hi[k];
+    }
+    PetscCall(FDEMRigidSetDomain(s.rb, l, h));
+    PetscCall(FDEMRigidSetPeriodic(s.rb, per));
+  } else PetscCall(FDEMRigidSetDomain(s.rb, l, h));
   PetscCall(FDEMRigidSetGravity(s.rb, g));
   PetscCall(FDEMRigidSetFromOptions(s.rb));
   PetscInt moving = 0, spheres = 0;
@@ -274,6 +283,8 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   }
   if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
+  PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)", sc.file.c_str(),
+             sc.periodic.where.c_str(), s.deformable_bodies.empty() ? "" : sc.bodies[s.deformable_bodies[0]].name.c_str());
   if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s));
   PetscCall(FDEMSceneCreate(comm, &s.sc));
   if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
@@ -412,10 +423,18 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     PetscCall(DMSwarmGetField(sw, "x", nullptr, nullptr, (void **)&x));
     PetscCall(DMSwarmGetField(sw, "mass", nullptr, nullptr, (void **)&m));
     PetscCall(DMSwarmGetField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
-    PetscReal *v;
+    PetscReal *v, plo[3], phi[3];
+    PetscInt  *image;
+    PetscCall(FDEMRigidGetPeriodic(s.rb, nullptr, plo, phi));
     PetscCall(DMSwarmGetField(sw, "v", nullptr, nullptr, (void **)&v));
-    for (PetscInt i = 0; i < n; ++i) // moving and moved bodies (a moved body is fixed with v != 0)
-      if (!fixed[i] || v[3 * i] != 0 || v[3 * i + 1] != 0 || v[3 * i + 2] != 0) loc -= m[i] * (g.x * x[3 * i] + g.y * x[3 * i + 1] + g.z * x[3 * i + 2]);
+    PetscCall(DMSwarmGetField(sw, "image", nullptr, nullptr, (void **)&image));
+    for (PetscInt i = 0; i < n; ++i) // moving and moved bodies (a moved body is fixed with v != 0), at their unwrapped centres
+      if (!fixed[i] || v[3 * i] != 0 || v[3 * i + 1] != 0 || v[3 * i + 2] != 0) {
+        PetscReal u[3];
+        for (int k = 0; k < 3; ++k) u[k] = x[3 * i + k] + image[3 * i + k] * (phi[k] - plo[k]);
+        loc -= m[i] * (g.x * u[0] + g.y * u[1] + g.z * u[2]);
+      }
+    PetscCall(DMSwarmRestoreField(sw, "image", nullptr, nullptr, (void **)&image));
     PetscCall(DMSwarmRestoreField(sw, "v", nullptr, nullptr, (void **)&v));
     PetscCall(DMSwarmRestoreField(sw, "fixed", nullptr, nullptr, (void **)&fixed));
     PetscCall(DMSwarmRestoreField(sw, "mass", nullptr, nullptr, (void **)&m));
@@ -459,11 +478,15 @@ PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt>
 // With spheres, also the rigid bodies' tangential-spring slots by body id (kSprings doubles each:
 // the swarm field "history", its bytes copied as they are).
 constexpr PetscInt kSprings = 48;
+// With periodic boundaries, also the periods each body crossed (the swarm field "image", 3 each).
 struct Parts {
-  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr, h = nullptr, nh = nullptr;
-  VecScatter sd = nullptr, sr = nullptr, sh = nullptr;
+  Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr, h = nullptr, nh = nullptr, g = nullptr, ng = nullptr;
+  VecScatter sd = nullptr, sr = nullptr, sh = nullptr, sg = nullptr;
   PetscErrorCode Destroy() {
     PetscFunctionBeginUser;
+    PetscCall(VecDestroy(&g));
+    PetscCall(VecDestroy(&ng));
+    PetscCall(VecScatterDestroy(&sg));
     PetscCall(VecDestroy(&h));
     PetscCall(VecDestroy(&nh));
     PetscCall(VecScatterDestroy(&sh));
@@ -516,7 +539,36 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
       PetscCall(ByIdScatter(s.comm, p.h, hindex, kSprings * s.nrigid, &p.nh, &p.sh));
       PetscCall(PetscObjectSetName((PetscObject)p.nh, "rigid_springs"));
     }
+    PetscBool per[3];
+    PetscCall(FDEMRigidGetPeriodic(s.rb, per, nullptr, nullptr));
+    if (per[0] || per[1] || per[2]) {
+      PetscCall(VecCreateMPI(s.comm, 3 * n, PETSC_DETERMINE, &p.g));
+      std::vector<PetscInt> gindex(3 * n);
+      for (PetscInt b = 0; b < n; ++b)
+        for (int k = 0; k < 3; ++k) gindex[3 * b + k] = 3 * (index[18 * b] / 18) + k;
+      PetscCall(ByIdScatter(s.comm, p.g, gindex, 3 * s.nrigid, &p.ng, &p.sg));
+      PetscCall(PetscObjectSetName((PetscObject)p.ng, "rigid_image"));
+    }
   }
+  PetscFunctionReturn(0);
+}
+
+// Copies the swarm's image counts into g (to_vec) or back.
+PetscErrorCode RigidImages(Sim &s, Vec g, bool to_vec) {
+  DM           sw;
+  PetscInt     n, *f;
+  PetscScalar *a;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidGetDM(s.rb, &sw));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(VecGetArray(g, &a));
+  PetscCall(DMSwarmGetField(sw, "image", nullptr, nullptr, (void **)&f));
+  for (PetscInt i = 0; i < 3 * n; ++i) {
+    if (to_vec) a[i] = (PetscScalar)f[i];
+    else f[i] = (PetscInt)std::llround(PetscRealPart(a[i]));
+  }
+  PetscCall(DMSwarmRestoreField(sw, "image", nullptr, nullptr, (void **)&f));
+  PetscCall(VecRestoreArray(g, &a));
   PetscFunctionReturn(0);
 }
 
@@ -592,6 +644,12 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
       PetscCall(VecScatterEnd(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecView(p.nh, v));
     }
+    if (p.g) {
+      PetscCall(RigidImages(s, p.g, true));
+      PetscCall(VecScatterBegin(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecView(p.ng, v));
+    }
   }
   PetscReal W;
   PetscCall(ExternalWork(s, &W));
@@ -641,6 +699,14 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
       PetscCall(VecScatterBegin(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
       PetscCall(VecScatterEnd(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
       PetscCall(RigidSprings(s, p.h, false));
+    }
+    has = PETSC_FALSE;
+    if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image", &has));
+    if (has) {
+      PetscCall(VecLoad(p.ng, v));
+      PetscCall(VecScatterBegin(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(VecScatterEnd(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(RigidImages(s, p.g, false));
     }
   }
   PetscMPIInt rank0;

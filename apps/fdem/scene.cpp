@@ -132,7 +132,7 @@ private:
   std::string file_;
 };
 
-const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "bodies", "generate", "output", "checkpoint", "petsc"};
+const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "periodic", "bodies", "generate", "output", "checkpoint", "petsc"};
 const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
 const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture", "restitution", "friction", "rolling_friction", "contact_law", "kn", "kt", "gamma_n", "gamma_t"};
 const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
@@ -449,6 +449,23 @@ Scene ReadScene(const std::string &file, const char *text) {
     if (c["buffer"] && !(c["buffer"].IsScalar() && c["buffer"].Scalar() == "auto")) sc.contact.buffer = r.Positive(c["buffer"], "contact.buffer (a length or auto)");
   }
 
+  if (root["periodic"]) {
+    const YAML::Node p = root["periodic"];
+    r.Keys(p, "periodic", {"axes", "lo", "hi"});
+    sc.periodic.where     = r.At(p);
+    const YAML::Node axes = r.Required(p, "axes", "periodic");
+    if (!axes.IsSequence() || axes.size() == 0) r.Fail(axes, "periodic.axes: expected a list of axes, e.g. [x, y]" + Reader::Got(axes));
+    for (size_t i = 0; i < axes.size(); ++i) {
+      const int k = r.Axis(axes[i], "periodic.axes[" + std::to_string(i) + "]");
+      if (sc.periodic.axis[k]) r.Fail(axes[i], "periodic.axes: axis " + std::string(1, "xyz"[k]) + " is listed twice");
+      sc.periodic.axis[k] = true;
+    }
+    sc.periodic.lo = r.Vector(r.Required(p, "lo", "periodic"), "periodic.lo");
+    sc.periodic.hi = r.Vector(r.Required(p, "hi", "periodic"), "periodic.hi");
+    for (int k = 0; k < 3; ++k)
+      if (sc.periodic.axis[k] && !(sc.periodic.hi[k] > sc.periodic.lo[k])) r.Fail(p["hi"], "periodic: the cell is empty along the periodic axis " + std::string(1, "xyz"[k]) + " (lo " + std::to_string(sc.periodic.lo[k]) + ", hi " + std::to_string(sc.periodic.hi[k]) + ")");
+  }
+
   const YAML::Node bodies = r.Required(root, "bodies", "scene");
   if (!bodies.IsSequence() || bodies.size() == 0) r.Fail(bodies, "bodies: expected a list of bodies" + Reader::Got(bodies));
   std::set<std::string> names;
@@ -462,6 +479,7 @@ Scene ReadScene(const std::string &file, const char *text) {
     }
     if (b.model != "deformable" && b.model != "auto" && !b.material.empty() && sc.FindMaterial(b.material)->fracture.present)
       r.Fail(bodies[i]["material"], "body '" + b.name + "': material '" + b.material + "' is fracturable (fracture: at " + sc.FindMaterial(b.material)->fracture.where + "), and only deformable bodies fracture; give the body model: deformable, or a material without fracture:");
+    if (sc.periodic.Any() && b.model == "deformable") r.Fail(bodies[i]["model"] ? bodies[i]["model"] : bodies[i], "body '" + b.name + "': periodic boundaries (periodic: at " + sc.periodic.where + ") hold rigid bodies and spheres only; this body is deformable");
     if (b.model == "deformable") {
       const Material *m = sc.FindMaterial(b.material);
       if (!(m->young > 0)) r.Fail(bodies[i]["material"], "body '" + b.name + "': a deformable body needs a material with young (and poisson); '" + m->name + "' (" + m->where + ") has no young");
@@ -522,6 +540,7 @@ const char *SceneKeysHelp() {
          "             (fracture: makes the deformable bodies of the material fracturable: a joint on every interior face)\n"
          "             granular contact of spheres: restitution: (0, 1], friction: mu, rolling_friction: mu_r, contact_law: hertz|hooke, kn: N/m, kt: N/m, gamma_n: 1/s, gamma_t: 1/s\n"
          "  contact: {penalty: Pa (required), friction: mu, normal_damping: Pa s/m, tangential_viscosity: Pa s/m, buffer: m | auto}\n"
+         "  periodic: {axes: [x, y], lo: [x,y,z], hi: [x,y,z]}  periodic boundaries along the axes listed, cell [lo, hi) (rigid bodies and spheres)\n"
          "  bodies: list of\n"
          "    {name, model: rigid|deformable|sphere (shape {sphere: r})|auto (fdem chooses; fdem check shows why), material, shape, resolution: element size,\n"
          "     position: [x,y,z], rotation: {axis: [x,y,z], degrees}, velocity: [..], angular_velocity: [..],\n"

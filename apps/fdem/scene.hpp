@@ -103,6 +103,14 @@ struct Contact {
   Where  where;
 };
 
+// Periodic boundaries (rigid bodies and spheres): the cell [lo, hi) along the axes listed.
+struct Periodic {
+  bool  axis[3] = {false, false, false};
+  Vec3  lo, hi;
+  Where where;
+  bool  Any() const { return axis[0] || axis[1] || axis[2]; }
+};
+
 struct Scene {
   std::string           file, dir; // the scene file and its folder
   std::string           title;
@@ -112,6 +120,7 @@ struct Scene {
   Where                 time_where, scheme_where;
   std::vector<Material> materials;
   Contact               contact;
+  Periodic              periodic;
   std::vector<Body>     bodies; // after ReadScene: the listed bodies, then the generated ones
   std::vector<Pack>     packs;
   std::string           output_dir = "out";
