@@ -5,6 +5,9 @@
 //     shifted by half a period: velocities to 1e-9 m/s, positions to 1e-9 m modulo the period.
 //     Momentum is conserved to round-off, energy to 3e-5 (elastic; about 100 steps per contact), and the unwrapped centres
 //     (x + image L, the periods counted by the migrations) move as the centre of mass does.
+//  1b. A free rigid cube strikes a sphere across the boundary (sphere-surface contact with an
+//     image of the cube's skin): the same as in the middle of the cell, to 1e-9, and the
+//     sphere leaves at the speed of an elastic head-on impact (0.1%).
 //  2. 64 spheres with restitution, friction and rolling resistance in a cell periodic along x
 //     and y, no walls, no gravity: solved on PETSC_COMM_WORLD and on PETSC_COMM_SELF in the same
 //     process; final positions and velocities agree to 1e-9 m and 1e-7 m/s, momentum is
@@ -105,6 +108,46 @@ PetscErrorCode Pair(MPI_Comm comm, PetscReal x0, PetscReal T, State &s) {
   PetscFunctionReturn(0);
 }
 
+// A free rigid cube (side 2 R0, six tetrahedra) at x0 - (R0 + gap) moving at 15 m/s strikes a
+// sphere at x0 + (R0 + gap) moving at -5 m/s, for time T (sphere-surface contact through images).
+PetscErrorCode CubeSphere(MPI_Comm comm, PetscReal x0, PetscReal T, State &s) {
+  FDEMRigid       rb;
+  FDEMContact     c;
+  PetscInt        m, id;
+  const PetscReal lo[3] = {0, -0.05, -0.05}, hi[3] = {L, 0.05, 0.05};
+  const PetscBool per[3] = {PETSC_TRUE, PETSC_FALSE, PETSC_FALSE};
+  PetscFunctionBeginUser;
+  PetscCall(FDEMRigidCreate(comm, &rb));
+  PetscCall(FDEMRigidSetDomain(rb, lo, hi));
+  PetscCall(FDEMRigidSetPeriodic(rb, per));
+  PetscCall(Glass(rb, -1, 0, 0, &m));
+  std::vector<PetscReal> X;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k) X.push_back(((i >> k) & 1) ? R0 : -R0);
+  const int             T6[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+  std::vector<PetscInt> tets;
+  for (const auto &t : T6) { // positively oriented
+    PetscInt        q[4] = {t[0], t[1], t[2], t[3]};
+    PetscReal       a[3], b[3], d[3];
+    for (int k = 0; k < 3; ++k) a[k] = X[3 * q[1] + k] - X[3 * q[0] + k], b[k] = X[3 * q[2] + k] - X[3 * q[0] + k], d[k] = X[3 * q[3] + k] - X[3 * q[0] + k];
+    const PetscReal det = a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) + a[2] * (b[0] * d[1] - b[1] * d[0]);
+    if (det < 0) std::swap(q[2], q[3]);
+    tets.insert(tets.end(), q, q + 4);
+  }
+  const PetscReal gap = 0.002;
+  PetscReal       xa[3] = {std::fmod(x0 - R0 - gap + L, L), 0, 0}, xb[3] = {std::fmod(x0 + R0 + gap, L), 0, 0}, va[3] = {15, 0, 0}, vb[3] = {-5, 0, 0};
+  PetscCall(FDEMRigidAddBodyFromMesh(rb, "cube", 8, X.data(), 6, tets.data(), RHO, xa, nullptr, va, nullptr, &id));
+  PetscCall(FDEMRigidSetBodyMaterial(rb, id, m));
+  PetscCall(FDEMRigidAddSphere(rb, "b", R0, RHO, m, xb, vb, nullptr, &id));
+  PetscCall(FDEMContactCreate(rb, &c));
+  PetscCall(FDEMRigidSetFromOptions(rb));
+  PetscCall(FDEMRigidSolve(rb, 0, T, 1e-6, 40, nullptr, nullptr));
+  PetscCall(Gather(rb, 2, s));
+  PetscCall(FDEMContactDestroy(&c));
+  PetscCall(FDEMRigidDestroy(&rb));
+  PetscFunctionReturn(0);
+}
+
 // 64 spheres in a cell periodic along x and y, random velocities (fixed seed), dissipative.
 PetscErrorCode Cloud(MPI_Comm comm, PetscInt nsteps, State &s0, State &s) {
   FDEMRigid       rb;
@@ -167,6 +210,21 @@ int main(int argc, char **argv) {
     CHECK(std::fabs(cm - cm0) < 1e-9, "pair: the unwrapped centre of mass %g, expected %g (image counts)", (double)cm, (double)cm0);
     CHECK(across.crossed >= 1, "pair: no sphere ended a period away from its start (image counts all zero)");
     for (int i = 0; i < 2; ++i) CHECK(across.x[3 * i] >= 0 && across.x[3 * i] < L, "pair: sphere %d at x = %g, outside the cell", i, (double)across.x[3 * i]);
+  }
+  {
+    State           across, middle;
+    const PetscReal T = 0.002; // one collision (the sphere, thrown forward, would catch the cube again)
+    PetscCall(CubeSphere(PETSC_COMM_WORLD, 0.0, T, across));
+    PetscCall(CubeSphere(PETSC_COMM_WORLD, 0.5 * L, T, middle));
+    PetscReal dx = 0, dv = 0;
+    for (int i = 0; i < 6; ++i) {
+      dx = std::max(dx, std::fabs(Periodic(across.x[i] - middle.x[i] + (i % 3 == 0 ? 0.5 * L : 0))));
+      dv = std::max(dv, std::fabs(across.v[i] - middle.v[i]));
+    }
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cube strikes a sphere across the boundary against the same in the middle (%d ranks): |dx| %.3e m, |dv| %.3e m/s; v_cube %.6f, v_sphere %.6f\n", size, (double)dx, (double)dv, (double)across.v[0], (double)across.v[3]));
+    CHECK(dx < 1e-9 && dv < 1e-9, "cube and sphere: across the boundary and in the middle differ by %g m, %g m/s", (double)dx, (double)dv);
+    const PetscReal mc = RHO * 8 * R0 * R0 * R0, ms = RHO * 4.0 / 3.0 * M_PI * R0 * R0 * R0, vs = ((ms - mc) * -5.0 + 2 * mc * 15.0) / (mc + ms); // elastic, head-on on a face
+    CHECK(std::fabs(across.v[3] - vs) < 1e-3 * vs, "cube and sphere: the sphere leaves at %g m/s, the elastic head-on impact gives %g", (double)across.v[3], (double)vs);
   }
   {
     State           a0, a, b0, b;
