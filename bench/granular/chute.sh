@@ -7,11 +7,11 @@
 # of each (wall clock of the time stepping: fdem's "stepping" time, LAMMPS's "Loop time"),
 # fdem/LAMMPS, and the mean flow velocity <vx> of the moving spheres at the end of each run:
 # both start from the same state, so they should agree to the chaos of the flow.
-# Usage: chute.sh FDEM_BUILD_DIR [lx=40] [ly=20] [layers=39] [steps=1000] [rounds=3] [settle=10000]
+# Usage: chute.sh FDEM_BUILD_DIR [lx=40] [ly=20] [layers=39] [steps=1000] [rounds=3] [settle=20000]
 #        (40 x 20 x 39 + the base: 32 000 spheres, as LAMMPS's chute benchmark)
 set -e
 here=$(cd "$(dirname "$0")" && pwd)
-build=${1:?build directory}; lx=${2:-40}; ly=${3:-20}; layers=${4:-39}; steps=${5:-1000}; rounds=${6:-3}; settle=${7:-10000}
+build=${1:?build directory}; lx=${2:-40}; ly=${3:-20}; layers=${4:-39}; steps=${5:-1000}; rounds=${6:-3}; settle=${7:-20000}
 command -v lmp >/dev/null || { echo "lmp not found (apt-get install lammps)"; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
