@@ -478,7 +478,7 @@ PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt>
 // With spheres, also the rigid bodies' tangential-spring slots by body id (kSprings doubles each:
 // the swarm field "history", its bytes copied as they are).
 constexpr PetscInt kSprings = 48;
-// With periodic boundaries, also the periods each body crossed (the swarm field "image", 3 each).
+// And the periods each body crossed and its partition weight (the swarm fields "image", "work").
 struct Parts {
   Vec        dx = nullptr, dv = nullptr, r = nullptr, ndx = nullptr, ndv = nullptr, nr = nullptr, h = nullptr, nh = nullptr, g = nullptr, ng = nullptr;
   VecScatter sd = nullptr, sr = nullptr, sh = nullptr, sg = nullptr;
@@ -539,34 +539,38 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
       PetscCall(ByIdScatter(s.comm, p.h, hindex, kSprings * s.nrigid, &p.nh, &p.sh));
       PetscCall(PetscObjectSetName((PetscObject)p.nh, "rigid_springs"));
     }
-    PetscBool per[3];
-    PetscCall(FDEMRigidGetPeriodic(s.rb, per, nullptr, nullptr));
-    if (per[0] || per[1] || per[2]) {
-      PetscCall(VecCreateMPI(s.comm, 3 * n, PETSC_DETERMINE, &p.g));
-      std::vector<PetscInt> gindex(3 * n);
-      for (PetscInt b = 0; b < n; ++b)
-        for (int k = 0; k < 3; ++k) gindex[3 * b + k] = 3 * (index[18 * b] / 18) + k;
-      PetscCall(ByIdScatter(s.comm, p.g, gindex, 3 * s.nrigid, &p.ng, &p.sg));
-      PetscCall(PetscObjectSetName((PetscObject)p.ng, "rigid_image"));
-    }
+    PetscCall(VecCreateMPI(s.comm, 4 * n, PETSC_DETERMINE, &p.g));
+    std::vector<PetscInt> gindex(4 * n);
+    for (PetscInt b = 0; b < n; ++b)
+      for (int k = 0; k < 4; ++k) gindex[4 * b + k] = 4 * (index[18 * b] / 18) + k;
+    PetscCall(ByIdScatter(s.comm, p.g, gindex, 4 * s.nrigid, &p.ng, &p.sg));
+    PetscCall(PetscObjectSetName((PetscObject)p.ng, "rigid_image_work"));
   }
   PetscFunctionReturn(0);
 }
 
-// Copies the swarm's image counts into g (to_vec) or back.
-PetscErrorCode RigidImages(Sim &s, Vec g, bool to_vec) {
+// Copies the swarm's image counts and partition weights (4 per body) into g (to_vec) or back:
+// a restart then crosses the same periods and cuts the same partition as the straight run.
+PetscErrorCode RigidImagesWork(Sim &s, Vec g, bool to_vec) {
   DM           sw;
   PetscInt     n, *f;
+  PetscReal   *w;
   PetscScalar *a;
   PetscFunctionBeginUser;
   PetscCall(FDEMRigidGetDM(s.rb, &sw));
   PetscCall(DMSwarmGetLocalSize(sw, &n));
   PetscCall(VecGetArray(g, &a));
   PetscCall(DMSwarmGetField(sw, "image", nullptr, nullptr, (void **)&f));
-  for (PetscInt i = 0; i < 3 * n; ++i) {
-    if (to_vec) a[i] = (PetscScalar)f[i];
-    else f[i] = (PetscInt)std::llround(PetscRealPart(a[i]));
+  PetscCall(DMSwarmGetField(sw, "work", nullptr, nullptr, (void **)&w));
+  for (PetscInt b = 0; b < n; ++b) {
+    for (int k = 0; k < 3; ++k) {
+      if (to_vec) a[4 * b + k] = (PetscScalar)f[3 * b + k];
+      else f[3 * b + k] = (PetscInt)std::llround(PetscRealPart(a[4 * b + k]));
+    }
+    if (to_vec) a[4 * b + 3] = w[b];
+    else w[b] = PetscRealPart(a[4 * b + 3]);
   }
+  PetscCall(DMSwarmRestoreField(sw, "work", nullptr, nullptr, (void **)&w));
   PetscCall(DMSwarmRestoreField(sw, "image", nullptr, nullptr, (void **)&f));
   PetscCall(VecRestoreArray(g, &a));
   PetscFunctionReturn(0);
@@ -645,7 +649,7 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
       PetscCall(VecView(p.nh, v));
     }
     if (p.g) {
-      PetscCall(RigidImages(s, p.g, true));
+      PetscCall(RigidImagesWork(s, p.g, true));
       PetscCall(VecScatterBegin(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecScatterEnd(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecView(p.ng, v));
@@ -701,12 +705,12 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
       PetscCall(RigidSprings(s, p.h, false));
     }
     has = PETSC_FALSE;
-    if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image", &has));
+    if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image_work", &has));
     if (has) {
       PetscCall(VecLoad(p.ng, v));
       PetscCall(VecScatterBegin(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
       PetscCall(VecScatterEnd(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(RigidImages(s, p.g, false));
+      PetscCall(RigidImagesWork(s, p.g, false));
     }
   }
   PetscMPIInt rank0;

@@ -497,13 +497,16 @@ PetscErrorCode Engine::Search() {
       return 0;
     }));
   }
-  // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere
+  // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere; and how many
+  //    pairs each takes part in, for its adapter
   {
-    std::vector<char> t(nl, 0);
+    std::vector<char>     t(nl, 0);
+    std::vector<PetscInt> count(nl, 0);
     for (const auto *list : {&pairs_, &ss_, &st_})
       for (const auto &p : *list)
         for (int i : p)
-          if (i < nl) t[i] = 1;
+          if (i < nl) t[i] = 1, ++count[i];
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->PairCounts(count.data() + first_[k]));
     for (const auto &s : send)
       for (PetscInt i : s) t[i] = 1;
     touch_.assign(adapters_.size(), {});

@@ -130,6 +130,12 @@ public:
   // For the automatic buffer: the sum of this rank's proposals of a search buffer and their
   // number (the engine takes the mean over all kinds and ranks). Collective.
   virtual PetscErrorCode BufferProposal(PetscReal *sum, PetscInt *count) = 0;
+  // At each search: n[i], the candidate pairs this rank computes that own primitive i takes
+  // part in (a measure of the contact work of its body, for a partition). Default: ignored.
+  virtual PetscErrorCode PairCounts(const PetscInt *n) {
+    (void)n;
+    return 0;
+  }
   // Spheres: the kHistorySlots tangential springs of own sphere primitive i, readable and
   // writable between HistoryBegin() and HistoryEnd() (null: none kept).
   virtual PetscErrorCode HistoryBegin() { return 0; }

@@ -37,6 +37,17 @@ PetscErrorCode RigidAdapter::HistoryBegin() {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode RigidAdapter::PairCounts(const PetscInt *n) {
+  PetscReal *work;
+  PetscFunctionBegin;
+  if (!record_work_) PetscFunctionReturn(0);
+  PetscCall(DMSwarmGetField(rb_->sw, "work", nullptr, nullptr, (void **)&work));
+  for (PetscInt j : body_) work[j] = 0;
+  for (size_t i = 0; i < prim_body_.size(); ++i) work[body_[prim_body_[i]]] += (PetscReal)n[i];
+  PetscCall(DMSwarmRestoreField(rb_->sw, "work", nullptr, nullptr, (void **)&work));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RigidAdapter::HistoryEnd() {
   PetscFunctionBegin;
   PetscCall(DMSwarmRestoreField(rb_->sw, "history", nullptr, nullptr, (void **)&hist_));

@@ -33,9 +33,14 @@ public:
   PetscErrorCode HistoryBegin() override;
   HistorySlot   *History(int i) override { return hist_ ? reinterpret_cast<HistorySlot *>(hist_ + fdem::model::kHistoryBytes * (size_t)body_[prim_body_[i]]) : nullptr; }
   PetscErrorCode HistoryEnd() override;
+  // Keep each body's pair count (plus nothing else) in its swarm field "work", the weight of the
+  // rigid model's partition (the rigid bodies' own contact does; a combined scene's does not).
+  void           RecordWork(bool on) { record_work_ = on; }
+  PetscErrorCode PairCounts(const PetscInt *n) override;
 
 private:
   FDEMRigid             rb_;
+  bool                  record_work_ = false;
   const PetscScalar    *q_ = nullptr, *u_ = nullptr;
   PetscScalar          *fm_ = nullptr;
   std::vector<PetscInt>  body_, skin_;  // per listed body (with a skin): local index, skin

@@ -12,6 +12,7 @@ struct _n_FDEMContact {
   fdem::contact::RigidAdapter   rigid;
   fdem::contact::Engine         engine;
   explicit _n_FDEMContact(FDEMRigid r) : rb(r), rigid(r), engine(r->comm, "Contact") {
+    rigid.RecordWork(true);
     const int k = engine.AddAdapter(&rigid);
     engine.AllowPair(k, k);
   }

@@ -222,6 +222,10 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   PetscCall(DMSwarmGetField(rb->sw, "image", nullptr, nullptr, (void **)&image));
   for (int k = 0; k < 3; ++k) image[3 * b + k] = 0;
   PetscCall(DMSwarmRestoreField(rb->sw, "image", nullptr, nullptr, (void **)&image));
+  PetscReal *work;
+  PetscCall(DMSwarmGetField(rb->sw, "work", nullptr, nullptr, (void **)&work));
+  work[b] = 0;
+  PetscCall(DMSwarmRestoreField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   PetscFunctionReturn(0);
 }
 
@@ -252,6 +256,7 @@ PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *out) {
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "fixed", 1, PETSC_INT));
   PetscCall(DMSwarmRegisterUserStructField(rb->sw, "history", fdem::model::kHistoryBytes));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "image", 3, PETSC_INT)); // periods crossed (FDEMRigidSetPeriodic)
+  PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "work", 1, PETSC_REAL));  // contact pairs at the last search (the partition's weight; 0: not measured)
   PetscCall(DMSwarmFinalizeFieldRegister(rb->sw));
   PetscCall(DMSwarmSetLocalSizes(rb->sw, 0, 16));
   *out = rb;
@@ -304,6 +309,7 @@ PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscOptionsBegin(rb->comm, nullptr, "fdem rigid bodies", "FDEMRigid");
   PetscCall(PetscOptionsEnum("-fdem_rigid_rotation", "Free rotation of the drift: munjiza (book 5.2.10, order 2), nosquish (symplectic, order 2), exact (Jacobi elliptic)", "FDEMRigidSetRotationType",
                              FDEMRotationTypes, (PetscEnum)rb->rotation, (PetscEnum *)&rb->rotation, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_rigid_partition_pairs", "Weigh each body in the partition by the contact pairs it took part in at the last search (false: by its contact primitives only)", "FDEMRigidMigrate", rb->weight_pairs, &rb->weight_pairs, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_sphere_orientation", "Turn the spheres' orientation R with their spin (for output; their contacts do not need it)", "FDEMRigidAddSphere", rb->sphere_orientation, &rb->sphere_orientation, nullptr));
   PetscCall(PetscOptionsRealArray("-fdem_rigid_gravity", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g, &three, &flg));
   PetscCheck(!flg || three == 3, rb->comm, PETSC_ERR_ARG_SIZ, "-fdem_rigid_gravity takes three numbers gx,gy,gz; got %" PetscInt_FMT, three);
@@ -601,8 +607,10 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
 }
 
 // The partition: a recursive coordinate bisection of the moving bodies' centres, each weighted
-// by its contact primitives (a sphere 1, a polyhedron its skin tetrahedra: the contact work
-// grows with them). A group of ranks [r0, r1) splits its bodies along the axis of their
+// by its contact work: its contact primitives (a sphere 1, a polyhedron its skin tetrahedra)
+// plus the candidate pairs its primitives took part in at the last search on its rank (the
+// swarm field "work", set by the rigid bodies' contact; -fdem_rigid_partition_pairs false:
+// the primitives only). A group of ranks [r0, r1) splits its bodies along the axis of their
 // largest spread (between the 10% and 90% quantiles, so a few bodies thrown far do not choose
 // it) at the weighted quantile (r1 - r0) / 2 / (r1 - r0), the cut half-way between the two
 // bodies on either side. Fixed bodies (walls, floors) are left out: their pairs are computed
@@ -610,7 +618,7 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
 // Fewer moving bodies than ranks: equal slabs of the domain.
 static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   PetscInt         n, *fx, *sk;
-  const PetscReal *x;
+  const PetscReal *x, *work;
   std::vector<PetscReal> mine;
   PetscFunctionBegin;
   if (rb->axis < 0) PetscFunctionReturn(0);
@@ -618,11 +626,13 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmGetField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
   PetscCall(DMSwarmGetField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
+  PetscCall(DMSwarmGetField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   for (PetscInt b = 0; b < n; ++b)
     if (!fx[b]) {
       mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
-      mine.push_back(sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0);
+      mine.push_back((sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + (rb->weight_pairs ? work[b] : 0));
     }
+  PetscCall(DMSwarmRestoreField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   PetscCall(DMSwarmRestoreField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
   PetscCall(DMSwarmRestoreField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
   PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
@@ -693,7 +703,7 @@ static PetscErrorCode SortLocalById(FDEMRigid rb) {
   PetscCall(DMSwarmRestoreField(rb->sw, "id", nullptr, nullptr, (void **)&id));
   if (sorted) PetscFunctionReturn(0);
   // every field, its bytes per body from its block size and type (the spring slots are raw bytes)
-  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", "image", DMSwarmField_pid, DMSwarmField_rank};
+  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", "image", "work", DMSwarmField_pid, DMSwarmField_rank};
   std::vector<char> tmp;
   for (const char *name : names) {
     char         *data;

@@ -109,6 +109,7 @@ struct _n_FDEMRigid {
   std::vector<char>     sphere;     // per local body while a TS runs: a sphere
   std::vector<PetscReal> load;      // per local body: the force on it at the last evaluation (3 each; FDEMRigidGetBodyForce)
   PetscBool             sphere_orientation = PETSC_FALSE; // turn the spheres' R too (-fdem_rigid_sphere_orientation)
+  PetscBool             weight_pairs = PETSC_TRUE; // partition weights: contact pairs measured at the last search (-fdem_rigid_partition_pairs)
   // moved bodies (FDEMRigidMoveBody): fixed bodies with a held velocity; the power of their
   // reactions at the last force evaluation (this rank) and its time integral
   PetscReal              power = 0;
