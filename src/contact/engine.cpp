@@ -205,6 +205,10 @@ PetscErrorCode RegisterEvents() {
 PetscErrorCode Engine::ListAll() {
   PetscFunctionBegin;
   PetscCall(RegisterEvents());
+  // the springs kept with the sphere pairs go to their slots while the numbering is still theirs
+  // (Reset, after a migration, has dropped them: the rigid contact flushed them before)
+  PetscCall(FlushSprings());
+  sp_.clear();
   PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
   prim_.clear();
   PetscReal size_sum = 0;

@@ -165,7 +165,15 @@ public:
   // Start over (collective, at the same point on every rank): at the next evaluation the
   // primitives are listed again (after migration, or when primitives appeared, e.g. by
   // fracture), searched again and the initial overlap is checked again.
-  void Reset() { listed_ = searched_ = false; }
+  // The sphere-sphere springs kept with the pairs are dropped (the adapters' memory may have moved):
+  // call FlushSprings() first (the rigid contact does at the end of each TS segment).
+  void Reset() {
+    listed_ = searched_ = false;
+    sp_.clear();
+  }
+  // Writes the springs of the sphere-sphere pairs into their slots (the slots are what migrates and
+  // is checkpointed; between two flushes the engine reads and writes the copy kept with each pair).
+  PetscErrorCode FlushSprings();
   // The next evaluation checks the initial overlap again (a new run from a new state).
   void RecheckInitialOverlap() {
     checked_initial_ = false;
@@ -261,6 +269,7 @@ private:
   };
   std::vector<SpherePair>       sp_;
   std::vector<SpherePairConst>  spc_;
+  std::vector<Vec3>             sps_;          // per pair: its spring while it has a slot (the slot's value since the last flush)
   std::vector<int>              sph_;          // per compact sphere: its primitive
   std::vector<double>           sr_;           // per compact sphere: its radius
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again

@@ -61,6 +61,22 @@ void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double 
 }
 } // namespace
 
+PetscErrorCode Engine::FlushSprings() {
+  PetscFunctionBegin;
+  if (sp_.empty()) PetscFunctionReturn(0);
+  for (auto *a : adapters_) PetscCall(a->HistoryBegin());
+  for (size_t j = 0; j < sp_.size(); ++j) {
+    if (sp_[j].slot < 0) continue;
+    const int        i = sph_[sp_[j].a];
+    const Primitive &p = P(i);
+    HistorySlot     *h = adapters_[p.kind]->History(i - first_[p.kind]);
+    if (h)
+      for (int k = 0; k < 3; ++k) h[sp_[j].slot].s[k] = sps_[j][k];
+  }
+  for (auto *a : adapters_) PetscCall(a->HistoryEnd());
+  PetscFunctionReturn(0);
+}
+
 const GranularPair *Engine::Law(const Primitive &a, const Primitive &b) const {
   // a body without a granular material meets a sphere with the other side's material
   const int ma = a.mat >= 0 ? a.mat : b.mat, mb = b.mat >= 0 ? b.mat : a.mat;
@@ -117,11 +133,20 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     //    made once (sp_): sorted by holder, the spheres numbered compactly, each pair's law,
     //    effective mass, Hooke damping and key, and the slot of its spring found by the key; a
     //    pair keeps its slot from then on, takes a free one when it starts touching and frees
-    //    it when it stops. At each evaluation the centres, velocities and spins go to compact
+    //    it when it stops. Its spring is kept with the pair (sps_, in the pairs' order) and
+    //    written to the slot at a flush: before the next search's pairs are made, and when the
+    //    state goes back to the swarm (FlushSprings, before a migration or a checkpoint). At each evaluation the centres, velocities and spins go to compact
     //    arrays (a sphere's Vertices record is 96 bytes); the touching pairs are picked out,
     //    their data laid out one array per quantity (GranularBatch), the law run over them in
     //    vector instructions, and the forces summed per sphere in the order of the pairs.
     if (sp_fresh_) {
+      for (size_t j = 0; j < sp_.size(); ++j) // the old pairs' springs to their slots first (the numbering is still theirs)
+        if (sp_[j].slot >= 0) {
+          const int    i = sph_[sp_[j].a];
+          HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
+          if (h)
+            for (int k = 0; k < 3; ++k) h[sp_[j].slot].s[k] = sps_[j][k];
+        }
       std::vector<int> comp(nl_ + ng_, -1);
       sph_.clear();
       sr_.clear();
@@ -137,6 +162,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       for (const auto &p : ss_) number(p[0]);
       sp_.resize(ss_.size());
       spc_.resize(ss_.size());
+      sps_.resize(ss_.size());
       for (size_t j = 0; j < ss_.size(); ++j) {
         const int        a = ss_[j][0], b = ss_[j][1];
         const Primitive &A = P(a), &B = P(b);
@@ -155,7 +181,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         HistorySlot *h = hp[a] ? hp[a] : (hp[a] = slots(a));
         for (int m = 0; h && m < kHistorySlots && k < 0; ++m)
           if (h[m].key == c.key) k = m;
-        sp_[j] = SpherePair{number(a), number(b), k, law};
+        sp_[j]  = SpherePair{number(a), number(b), k, law};
+        sps_[j] = k >= 0 ? Vec3(h[k].s[0], h[k].s[1], h[k].s[2]) : Vec3();
       }
       sp_fresh_ = false;
     }
@@ -163,10 +190,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     sbuf_.resize(5 * (size_t)ns);
     Vec3 *cx = sbuf_.data(), *cv = cx + ns, *cw = cv + ns, *cf = cw + ns, *ct = cf + ns;
     shp_.assign(ns, nullptr);
+    auto holder = [&](int c) { // a holder's slots (a holder is own), looked up when a contact starts or ends
+      if (!shp_[c]) shp_[c] = hp[sph_[c]] ? hp[sph_[c]] : (hp[sph_[c]] = slots(sph_[c]));
+      return shp_[c];
+    };
     for (int c = 0; c < ns; ++c) {
       const int i = sph_[c];
       cx[c] = X(i)[0], cv[c] = V(i)[0], cw[c] = V(i)[1], cf[c] = ct[c] = Vec3();
-      if (i < nl_) shp_[c] = hp[i] ? hp[i] : (hp[i] = slots(i)); // a holder is own
     }
     // the touching pairs (picked without a branch on the outcome); a contact that opened frees its slot
     stouch_.resize(sp_.size());
@@ -180,7 +210,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       stouch_[nt]     = (int)j;
       nt += t;
       one_law = one_law && (!t || q.law == law0);
-      if (!t && q.slot >= 0) shp_[q.a][q.slot] = HistorySlot{}, q.slot = -1;
+      if (!t && q.slot >= 0) holder(q.a)[q.slot] = HistorySlot{}, q.slot = -1;
     }
     // the batch in runs of one law (in the order of the pairs when there is one law)
     spos_.resize(nt);
@@ -210,17 +240,17 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       const Vec3  d = cx[q.a] - cx[q.b], dv = cv[q.a] - cv[q.b];
       if (!(dot(d, d) > 0)) throw std::runtime_error(adapters_[P(sph_[q.a]).kind]->BodyName(P(sph_[q.a])) + " and " + adapters_[P(sph_[q.b]).kind]->BodyName(P(sph_[q.b])) + " have the same centre");
       if (q.law < 0) Law(P(sph_[q.a]), P(sph_[q.b])); // throws: no law for these two
-      HistorySlot *h = shp_[q.a];
-      if (q.slot < 0 && h) { // a new contact: a free slot
-        for (int k = 0; k < kHistorySlots && q.slot < 0; ++k)
-          if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k;
-        if (q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
+      if (q.slot < 0) { // a new contact: a free slot
+        HistorySlot *h = holder(q.a);
+        for (int k = 0; h && k < kHistorySlots && q.slot < 0; ++k)
+          if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k, sps_[j] = Vec3();
+        if (h && q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
       }
       bdx[o] = d[0], bdy[o] = d[1], bdz[o] = d[2], bra[o] = sr_[q.a], brb[o] = sr_[q.b];
       bvx[o] = dv[0], bvy[o] = dv[1], bvz[o] = dv[2];
       for (int k = 0; k < 3; ++k) {
         bwa[k][o] = cw[q.a][k], bwb[k][o] = cw[q.b][k];
-        bs[k][o]  = q.slot >= 0 ? h[q.slot].s[k] : 0.0;
+        bs[k][o]  = q.slot >= 0 ? sps_[j][k] : 0.0;
       }
       bm[o] = spc_[j].mstar, bcn[o] = spc_[j].cn;
     }
@@ -228,8 +258,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     const double *const bf[3] = {batch_[GB::FX], batch_[GB::FY], batch_[GB::FZ]}, *const bta[3] = {batch_[GB::TAX], batch_[GB::TAY], batch_[GB::TAZ]};
     const double *const btb[3] = {batch_[GB::TBX], batch_[GB::TBY], batch_[GB::TBZ]}, *const ben = batch_[GB::ENERGY], *const bov = batch_[GB::OVERLAP];
     for (int m = 0; m < nt; ++m) {
-      const int         o = spos_[m];
-      const SpherePair &q = sp_[stouch_[m]];
+      const int         j = stouch_[m], o = spos_[m];
+      const SpherePair &q = sp_[j];
       for (int k = 0; k < 3; ++k) {
         cf[q.a][k] += bf[k][o];
         ct[q.a][k] += bta[k][o];
@@ -237,8 +267,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         ct[q.b][k] += btb[k][o];
       }
       if (q.slot >= 0) {
-        HistorySlot &h = shp_[q.a][q.slot];
-        for (int k = 0; k < 3; ++k) h.s[k] = bs[k][o];
+        for (int k = 0; k < 3; ++k) sps_[j][k] = bs[k][o];
         seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
       }
       sums[0] += ben[o];

@@ -45,6 +45,10 @@ PetscErrorCode ContactSetUp(FDEMRigid rb, void *ctx) {
   ((FDEMContact)ctx)->engine.Reset();
   PetscFunctionReturn(0);
 }
+
+// The state goes back to the swarm (the end of a TS segment, before a migration or a checkpoint):
+// the sphere-sphere springs the engine keeps with its pairs go to their slots.
+PetscErrorCode ContactStore(FDEMRigid, void *ctx) { return ((FDEMContact)ctx)->engine.FlushSprings(); }
 } // namespace
 
 PetscErrorCode FDEMContactCreate(FDEMRigid rb, FDEMContact *out) {
@@ -56,6 +60,7 @@ PetscErrorCode FDEMContactCreate(FDEMRigid rb, FDEMContact *out) {
   PetscCheck(c, rb->comm, PETSC_ERR_MEM, "Out of memory");
   term.model = ContactForces;
   term.setup = ContactSetUp;
+  term.store = ContactStore;
   term.ctx   = c;
   rb->forces.push_back(term);
   *out = c;

@@ -544,6 +544,8 @@ PetscErrorCode fdem::model::RigidStoreState(FDEMRigid rb, const PetscScalar *u) 
     for (int k = 0; k < 9; ++k) f.R[9 * b + k] = PetscRealPart(L.R(u, b)[k]);
   }
   PetscCall(RigidRestoreFields(rb->sw, f));
+  for (const auto &term : rb->forces)
+    if (term.store) PetscCall(term.store(rb, term.ctx));
   PetscFunctionReturn(0);
 }
 

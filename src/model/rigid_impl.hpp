@@ -63,6 +63,7 @@ struct OutputRecord {
 struct RigidForceTerm {
   PetscErrorCode (*model)(FDEMRigid, PetscReal t, const PetscScalar *q, PetscScalar *FM, void *ctx) = nullptr;
   PetscErrorCode (*setup)(FDEMRigid, void *ctx)                                                      = nullptr;
+  PetscErrorCode (*store)(FDEMRigid, void *ctx)                                                      = nullptr; // the state goes back to the swarm: write what the term keeps of it (contact springs)
   FDEMRigidForceFn body                                                                              = nullptr;
   void            *ctx                                                                               = nullptr;
 };

@@ -231,6 +231,34 @@ PetscErrorCode Incline(PetscReal mu) {
   PetscFunctionReturn(0);
 }
 
+// A sphere rolling down a large fixed sphere (radius 1 m; the contact holds its tangential spring
+// in the sphere-sphere pairs' store), started 30 degrees from the top: after 0.1 s, solved in one
+// TS and in TS segments of 10 steps (the springs must go to the swarm at the end of each segment
+// and come back at the next), the same speed to 1e-6, and rolling (spin = v / r to 1%).
+PetscErrorCode RollOnSphere(PetscInt every, PetscReal *speed, PetscReal *spin) {
+  FDEMRigid          rb;
+  FDEMContact        c;
+  PetscInt           m, big, s;
+  FDEMRigidBodyState b;
+  PetscFunctionBeginUser;
+  const PetscReal Rb = 1.0, th = PETSC_PI / 6, g[3] = {0, 0, -9.81}, c0[3] = {0, 0, 0};
+  const PetscReal x[3] = {(Rb + R0) * PetscSinReal(th), 0, (Rb + R0) * PetscCosReal(th)};
+  PetscCall(FDEMRigidCreate(PETSC_COMM_SELF, &rb));
+  PetscCall(FDEMRigidSetGravity(rb, g));
+  PetscCall(Material(rb, FDEM_GRANULAR_HERTZ, 0.5, 0.5, 0, &m));
+  PetscCall(FDEMRigidAddSphere(rb, "ground", Rb, RHO, m, c0, nullptr, nullptr, &big));
+  PetscCall(FDEMRigidFixBody(rb, big));
+  PetscCall(FDEMRigidAddSphere(rb, "ball", R0, RHO, m, x, nullptr, nullptr, &s));
+  PetscCall(FDEMContactCreate(rb, &c));
+  PetscCall(FDEMRigidSolve(rb, 0, 0.1, 2e-5, every, nullptr, nullptr));
+  PetscCall(FDEMRigidGetBodyState(rb, s, &b));
+  *speed = PetscSqrtReal(b.v[0] * b.v[0] + b.v[1] * b.v[1] + b.v[2] * b.v[2]);
+  *spin  = PetscSqrtReal(b.omega_space[0] * b.omega_space[0] + b.omega_space[1] * b.omega_space[1] + b.omega_space[2] * b.omega_space[2]);
+  PetscCall(FDEMContactDestroy(&c));
+  PetscCall(FDEMRigidDestroy(&rb));
+  PetscFunctionReturn(0);
+}
+
 // An oblique impact in gross sliding: a sphere strikes the top face of a fixed cube at
 // v_n = 1 m/s with v_t = 5 m/s, no spin, elastic (e = 1), friction mu = 0.1. It slides the
 // whole contact, so the friction impulse is mu times the normal one, 2 m v_n: it leaves
@@ -333,6 +361,14 @@ int main(int argc, char **argv) {
     PetscCall(OnCube(edge, "edge"));
     PetscCall(OnCube(vertex, "vertex"));
     PetscCall(Incline(0.5));
+    {
+      PetscReal v1, w1, v10, w10;
+      PetscCall(RollOnSphere(1000000, &v1, &w1));
+      PetscCall(RollOnSphere(10, &v10, &w10));
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "rolling down a fixed sphere: speed %.9f m/s in one TS, %.9f in segments of 10 steps; spin %.4f rad/s, v/r %.4f\n", (double)v1, (double)v10, (double)w10, (double)(v10 / R0)));
+      CHECK(std::fabs(v10 - v1) < 1e-6 * v1, "rolling down a sphere: speed %g in segments, %g in one TS (the springs are lost between segments?)", (double)v10, (double)v1);
+      CHECK(std::fabs(w10 - v10 / R0) < 0.01 * v10 / R0, "rolling down a sphere: spin %g, v / r = %g", (double)w10, (double)(v10 / R0));
+    }
     PetscCall(Incline(0.05));
     PetscCall(Oblique());
   }
