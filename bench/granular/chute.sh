@@ -6,7 +6,9 @@
 # LAMMPS, on 1 and 2 ranks, in interleaved rounds. Prints particle-steps per second per core
 # of each (wall clock of the time stepping: fdem's "stepping" time, LAMMPS's "Loop time"),
 # fdem/LAMMPS, and the mean flow velocity <vx> of the moving spheres at the end of each run:
-# both start from the same state, so they should agree to the chaos of the flow.
+# both start from the same state, so they should agree to the chaos of the flow. LIGGGHTS
+# (in.chute.liggghts) runs in the same rounds when it is installed; it starts from the same
+# positions and velocities but without the spins (its set command has no omega).
 # Usage: chute.sh FDEM_BUILD_DIR [lx=40] [ly=20] [layers=39] [steps=1000] [rounds=3] [settle=20000]
 #        (40 x 20 x 39 + the base: 32 000 spheres, as LAMMPS's chute benchmark)
 set -e
@@ -17,6 +19,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 tmp=$(mktemp -d)
 lmp -in "$here/in.chute" -var mode settle -var lx "$lx" -var ly "$ly" -var layers "$layers" -var settle "$settle" -var datafile "$tmp/start.data" -var dumpfile "$tmp/start.dump" -log none > /dev/null 2>&1
 python3 "$here/make_chute.py" "$tmp/start.dump" "$steps" > "$tmp/chute.yaml"
+lig=$(command -v liggghts || true)
+[ -n "$lig" ] && python3 "$here/make_chute.py" "$tmp/start.dump" "$steps" --liggghts "$tmp"
 n=$(( (layers + 1) * lx * ly ))
 r=1
 while [ $r -le "$rounds" ]; do
@@ -27,9 +31,15 @@ while [ $r -le "$rounds" ]; do
     l=$(mpiexec -n $np lmp -in "$here/in.chute" -var mode race -var datafile "$tmp/start.data" -var steps "$steps" -log none 2>&1)
     lt=$(echo "$l" | awk '/^Loop time/{print $4}')
     lvx=$(echo "$l" | awk '/^ *Step/{getline; getline; print $4}')
-    echo "$n $steps $np $ft $lt $fvx $lvx" | awk -v r=$r '{
-      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$5/np;
-      printf "round %d, %d rank(s), %d spheres: particle-steps/s/core fdem %.3g, LAMMPS %.3g; fdem/LAMMPS %.2f; mean flow velocity <vx> fdem %.6f, LAMMPS %.6f\n", r, np, n, fps, lps, fps/lps, $6, $7 }'
+    gt=0; gvx=0
+    if [ -n "$lig" ]; then
+      g=$(mpiexec -n $np "$lig" -in "$here/in.chute.liggghts" -var dir "$tmp" -var steps "$steps" -log none 2>&1)
+      gt=$(echo "$g" | awk '/^Loop time/{print $4}')
+      gvx=$(echo "$g" | awk '/^ *Step/{getline; getline; print $4}')
+    fi
+    echo "$n $steps $np $ft $lt $fvx $lvx $gt $gvx" | awk -v r=$r '{
+      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$5/np; gps=($8 > 0) ? n*s/$8/np : 0; rg=(gps > 0) ? fps/gps : 0;
+      printf "round %d, %d rank(s), %d spheres: particle-steps/s/core fdem %.3g, LAMMPS %.3g, LIGGGHTS %.3g; fdem/LAMMPS %.2f, fdem/LIGGGHTS %.2f; mean flow velocity <vx> fdem %.6f, LAMMPS %.6f, LIGGGHTS %.6f\n", r, np, n, fps, lps, gps, fps/lps, rg, $6, $7, $9 }'
   done
   r=$((r + 1))
 done
