@@ -521,30 +521,24 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     PetscInt  n, *id;
     PetscCall(FDEMRigidGetDM(s.rb, &sw));
     PetscCall(DMSwarmGetLocalSize(sw, &n));
-    PetscCall(VecCreateMPI(s.comm, 18 * n, PETSC_DETERMINE, &p.r));
-    std::vector<PetscInt> index(18 * n);
     PetscCall(DMSwarmGetField(sw, "id", nullptr, nullptr, (void **)&id));
-    for (PetscInt b = 0; b < n; ++b)
-      for (int k = 0; k < 18; ++k) index[18 * b + k] = 18 * id[b] + k;
+    const std::vector<PetscInt> ids(id, id + n);
     PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&id));
-    PetscCall(ByIdScatter(s.comm, p.r, index, 18 * s.nrigid, &p.nr, &p.sr));
-    PetscCall(PetscObjectSetName((PetscObject)p.nr, "rigid_xRvH"));
+    // `width` numbers per body: the local vector (bodies in the swarm's order) and the one by id
+    auto part = [&](PetscInt width, const char *name, Vec *local, Vec *nat, VecScatter *sc) -> PetscErrorCode {
+      std::vector<PetscInt> index(width * n);
+      for (PetscInt b = 0; b < n; ++b)
+        for (PetscInt k = 0; k < width; ++k) index[width * b + k] = width * ids[b] + k;
+      PetscCall(VecCreateMPI(s.comm, width * n, PETSC_DETERMINE, local));
+      PetscCall(ByIdScatter(s.comm, *local, index, width * s.nrigid, nat, sc));
+      PetscCall(PetscObjectSetName((PetscObject)*nat, name));
+      return 0;
+    };
+    PetscCall(part(18, "rigid_xRvH", &p.r, &p.nr, &p.sr));
     bool spheres = false;
     for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].model == "sphere";
-    if (spheres) {
-      PetscCall(VecCreateMPI(s.comm, kSprings * n, PETSC_DETERMINE, &p.h));
-      std::vector<PetscInt> hindex(kSprings * n);
-      for (PetscInt b = 0; b < n; ++b)
-        for (int k = 0; k < kSprings; ++k) hindex[kSprings * b + k] = kSprings * (index[18 * b] / 18) + k;
-      PetscCall(ByIdScatter(s.comm, p.h, hindex, kSprings * s.nrigid, &p.nh, &p.sh));
-      PetscCall(PetscObjectSetName((PetscObject)p.nh, "rigid_springs"));
-    }
-    PetscCall(VecCreateMPI(s.comm, 4 * n, PETSC_DETERMINE, &p.g));
-    std::vector<PetscInt> gindex(4 * n);
-    for (PetscInt b = 0; b < n; ++b)
-      for (int k = 0; k < 4; ++k) gindex[4 * b + k] = 4 * (index[18 * b] / 18) + k;
-    PetscCall(ByIdScatter(s.comm, p.g, gindex, 4 * s.nrigid, &p.ng, &p.sg));
-    PetscCall(PetscObjectSetName((PetscObject)p.ng, "rigid_image_work"));
+    if (spheres) PetscCall(part(kSprings, "rigid_springs", &p.h, &p.nh, &p.sh));
+    PetscCall(part(4, "rigid_image_work", &p.g, &p.ng, &p.sg));
   }
   PetscFunctionReturn(0);
 }

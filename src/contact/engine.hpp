@@ -174,6 +174,8 @@ public:
   // Writes the springs of the sphere-sphere pairs into their slots (the slots are what migrates and
   // is checkpointed; between two flushes the engine reads and writes the copy kept with each pair).
   PetscErrorCode FlushSprings();
+  // The same between the adapters' HistoryBegin() and HistoryEnd().
+  void           WriteSprings();
   // The next evaluation checks the initial overlap again (a new run from a new state).
   void RecheckInitialOverlap() {
     checked_initial_ = false;
@@ -276,7 +278,6 @@ private:
   std::vector<Vec3>             sbuf_;         // per compact sphere at an evaluation: centre, velocity, spin, force, torque
   std::vector<int>              stouch_, spos_; // at an evaluation: the touching pairs of sp_, and each one's place in batch_
   fdem::kernels::GranularBatch  batch_;
-  std::vector<HistorySlot *>    shp_;          // per compact sphere at an evaluation: its slots (own spheres)
   std::vector<fdem::kernels::GranularPair> gtable_;
   int                           gnmat_ = 0, gtag_ = 0;
   PetscReal                     time_ = 0, last_time_ = 0;

@@ -39,13 +39,6 @@ const GranularPair &ForContact(const GranularPair &p, double mstar, GranularPair
   return tmp;
 }
 
-// The elastic energy of a contact: normal (Hertz or Hooke) and the tangential spring's.
-double ElasticEnergy(const GranularPair &p, double overlap, double rstar, const Vec3 &s) {
-  if (p.law == GranularLaw::Hooke) return 0.5 * p.kn * overlap * overlap + 0.5 * p.kt * dot(s, s);
-  const double a = std::sqrt(rstar * overlap);
-  return (8.0 / 15.0) * p.estar * a * overlap * overlap + 0.5 * 8.0 * p.gstar * a * dot(s, s);
-}
-
 // Barycentric weights of p (a point of the triangle a, b, c); equal thirds for a degenerate triangle.
 void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double w[3]) {
   const Vec3   e0 = b - a, e1 = c - a, e2 = p - a;
@@ -61,10 +54,7 @@ void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double 
 }
 } // namespace
 
-PetscErrorCode Engine::FlushSprings() {
-  PetscFunctionBegin;
-  if (sp_.empty()) PetscFunctionReturn(0);
-  for (auto *a : adapters_) PetscCall(a->HistoryBegin());
+void Engine::WriteSprings() {
   for (size_t j = 0; j < sp_.size(); ++j) {
     if (sp_[j].slot < 0) continue;
     const int        i = sph_[sp_[j].a];
@@ -73,6 +63,13 @@ PetscErrorCode Engine::FlushSprings() {
     if (h)
       for (int k = 0; k < 3; ++k) h[sp_[j].slot].s[k] = sps_[j][k];
   }
+}
+
+PetscErrorCode Engine::FlushSprings() {
+  PetscFunctionBegin;
+  if (sp_.empty()) PetscFunctionReturn(0);
+  for (auto *a : adapters_) PetscCall(a->HistoryBegin());
+  WriteSprings();
   for (auto *a : adapters_) PetscCall(a->HistoryEnd());
   PetscFunctionReturn(0);
 }
@@ -102,10 +99,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     //    were not seen (contacts that opened) are freed, in the spheres that held any before
     std::vector<std::uint16_t> seen(nl_, 0);
     std::vector<HistorySlot *> hp(nl_, nullptr); // each holder's slots, looked up once
-    auto                       slots = [&](int i) { return adapters_[P(i).kind]->History(i - first_[P(i).kind]); };
+    auto                       slots = [&](int i) { // own sphere i's slots
+      if (!hp[i]) hp[i] = adapters_[P(i).kind]->History(i - first_[P(i).kind]);
+      return hp[i];
+    };
     Vec3                       spare;            // the spring of a contact without a slot (it restarts from zero)
     auto                       spring = [&](int i, std::int64_t key) -> double * {
-      HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
+      HistorySlot *h = slots(i);
       if (h) {
         for (int k = 0; k < kHistorySlots; ++k)
           if (h[k].key == key) {
@@ -140,13 +140,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     //    their data laid out one array per quantity (GranularBatch), the law run over them in
     //    vector instructions, and the forces summed per sphere in the order of the pairs.
     if (sp_fresh_) {
-      for (size_t j = 0; j < sp_.size(); ++j) // the old pairs' springs to their slots first (the numbering is still theirs)
-        if (sp_[j].slot >= 0) {
-          const int    i = sph_[sp_[j].a];
-          HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
-          if (h)
-            for (int k = 0; k < 3; ++k) h[sp_[j].slot].s[k] = sps_[j][k];
-        }
+      WriteSprings(); // the old pairs' springs to their slots first (the numbering is still theirs)
       std::vector<int> comp(nl_ + ng_, -1);
       sph_.clear();
       sr_.clear();
@@ -178,7 +172,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
           c.cn = c.mstar * ForContact(gtable_[law], c.mstar, tmp).gamma_n;
         }
         int          k = -1;
-        HistorySlot *h = hp[a] ? hp[a] : (hp[a] = slots(a));
+        HistorySlot *h = slots(a);
         for (int m = 0; h && m < kHistorySlots && k < 0; ++m)
           if (h[m].key == c.key) k = m;
         sp_[j]  = SpherePair{number(a), number(b), k, law};
@@ -189,11 +183,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     const int ns = (int)sph_.size();
     sbuf_.resize(5 * (size_t)ns);
     Vec3 *cx = sbuf_.data(), *cv = cx + ns, *cw = cv + ns, *cf = cw + ns, *ct = cf + ns;
-    shp_.assign(ns, nullptr);
-    auto holder = [&](int c) { // a holder's slots (a holder is own), looked up when a contact starts or ends
-      if (!shp_[c]) shp_[c] = hp[sph_[c]] ? hp[sph_[c]] : (hp[sph_[c]] = slots(sph_[c]));
-      return shp_[c];
-    };
+    auto holder = [&](int c) { return slots(sph_[c]); }; // a holder is own; looked up when a contact starts or ends
     for (int c = 0; c < ns; ++c) {
       const int i = sph_[c];
       cx[c] = X(i)[0], cv[c] = V(i)[0], cw[c] = V(i)[1], cf[c] = ct[c] = Vec3();
@@ -365,7 +355,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         Force(si)[0] += F;
         Force(si)[1] += cross(-S.radius * ct.n, F) + r.mroll;
         for (int m = 0; m < 3; ++m) Force(t)[s4[1 + m]] -= w[m] * F;
-        sums[0] += ElasticEnergy(law, ct.overlap, c.rstar, s);
+        sums[0] += fdem::kernels::GranularElasticEnergy(law, ct.overlap, c.rstar, s);
         sums[1] += 1;
         first(ct.overlap / (0.5 * S.radius), si, t);
       }
@@ -377,7 +367,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     // spheres of st_ are swept at every evaluation)
     auto sweep = [&](int i) {
       if (prim_[i].shape != kSphere) return;
-      HistorySlot *h = hp[i] ? hp[i] : (hp[i] = slots(i));
+      HistorySlot *h = slots(i);
       if (!h) return;
       for (int k = 0; k < kHistorySlots; ++k)
         if (h[k].key && SlotTag(h[k].key) == gtag_ && !(seen[i] >> k & 1u)) h[k] = HistorySlot{};

@@ -37,11 +37,7 @@ void Scalar(const GranularPair &p, double dt, const Case &k, Vec3 &F, Vec3 &Ta, 
   const Vec3 nxF         = cross(c.n, F);
   Ta                     = r.mroll - k.ra * nxF;
   Tb                     = -1.0 * (k.rb * nxF + r.mroll);
-  if (p.law == GranularLaw::Hooke) energy = 0.5 * p.kn * c.overlap * c.overlap + 0.5 * p.kt * dot(s, s);
-  else {
-    const double a = std::sqrt(c.rstar * c.overlap);
-    energy         = (8.0 / 15.0) * p.estar * a * c.overlap * c.overlap + 4.0 * p.gstar * a * dot(s, s);
-  }
+  energy                 = GranularElasticEnergy(p, c.overlap, c.rstar, s);
 }
 
 double Rel(const Vec3 &a, const Vec3 &b, double scale) { return norm(a - b) / scale; }

@@ -64,6 +64,15 @@ struct GranularResult {
 // (Defined inline below: it is the innermost call of the pair loops.)
 GranularResult GranularForce(const GranularPair &p, const GranularContact &c, double dt, Vec3 &shear);
 
+// The elastic energy of a contact (J): the normal spring's (Hooke 1/2 kn d^2, Hertz
+// 8/15 E* a d^2 with a = sqrt(R* d)) and the tangential spring's (1/2 kt s.s, Hertz kt = 8 G* a).
+// GranularBatchForces computes the same in its own loop.
+inline double GranularElasticEnergy(const GranularPair &p, double overlap, double rstar, const Vec3 &s) {
+  if (p.law == GranularLaw::Hooke) return 0.5 * p.kn * overlap * overlap + 0.5 * p.kt * dot(s, s);
+  const double a = std::sqrt(rstar * overlap);
+  return (8.0 / 15.0) * p.estar * a * overlap * overlap + 0.5 * 8.0 * p.gstar * a * dot(s, s);
+}
+
 // The pair parameters for materials a and b (mixing rule, doc/spheres.md):
 // Hertz E*, G* from both materials' elastic constants; Hooke stiffnesses by the
 // harmonic mean and damping rates by the geometric mean; restitution, friction
