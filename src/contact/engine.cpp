@@ -680,13 +680,12 @@ PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal
     PetscCall(adapters_[k]->Frequency2(std::max<PetscReal>(par_.penalty, 0), &a)); // collective
     if (a > loc.val) loc = {a, (int)k};
   }
-  // a sphere against one like it: kn / m* (Hooke) or the Hertz stiffness at an overlap of 1% of the radius
+  // a sphere against one like it, normal and tangential springs with their damping (GranularStableOmega)
   for (int i = 0; i < nl_; ++i) {
     const Primitive &p = prim_[i];
     if (p.shape != kSphere || p.fixed || p.mat < 0 || p.mat >= gnmat_ || !(p.mass > 0)) continue;
-    const fdem::kernels::GranularPair &g = gtable_[(size_t)p.mat * gnmat_ + p.mat];
-    const double k = g.law == fdem::kernels::GranularLaw::Hooke ? g.kn : 2 * g.estar * std::sqrt(0.5 * p.radius * 0.01 * p.radius);
-    if (k / (0.5 * p.mass) > loc.val) loc = {k / (0.5 * p.mass), (int)adapters_.size()};
+    const double w = fdem::kernels::GranularStableOmega(gtable_[(size_t)p.mat * gnmat_ + p.mat], p.mass, p.radius);
+    if (w * w > loc.val) loc = {w * w, (int)adapters_.size()};
   }
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
   const PetscReal omega = std::sqrt(glob.val);

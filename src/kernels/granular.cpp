@@ -153,4 +153,26 @@ double HertzContactTime(double estar, double rstar, double mstar, double v) {
   return 2.0 * HertzMaxOverlap(estar, rstar, mstar, v) / v * integral;
 }
 
+
+double GranularStableOmega(const GranularPair &p, double mass, double radius) {
+  const double mstar = 0.5 * mass, rstar = 0.5 * radius, mobility = 3.5; // 1 + m r^2 / I of a solid sphere
+  double kn, kt, zn, zt;
+  if (p.law == GranularLaw::Hooke) {
+    const double gn = p.gamma_n > 0 || !(p.restitution < 1) ? p.gamma_n : HookeDampingForRestitution(p.restitution, p.kn, mstar);
+    kn = p.kn;
+    kt = p.kt;
+    zn = kn > 0 ? 0.5 * gn * std::sqrt(mstar / kn) : 0;
+    zt = kt > 0 ? 0.5 * p.gamma_t * std::sqrt(mstar * mobility / kt) : 0;
+  } else {
+    const double a = std::sqrt(rstar * 0.01 * radius);
+    kn = 2.0 * p.estar * a;
+    kt = 8.0 * p.gstar * a;
+    zn = 0.5 * p.alpha;                      // cn = alpha sqrt(m* kn) = 2 zn sqrt(m* kn)
+    zt = 0.5 * p.alpha * std::sqrt(mobility); // ct = alpha sqrt(m* kt) against the mobile mass m* / 3.5
+  }
+  const double wn = std::sqrt(kn / mstar) * (zn + std::sqrt(1 + zn * zn));
+  const double wt = std::sqrt(mobility * kt / mstar) * (zt + std::sqrt(1 + zt * zt));
+  return std::max(wn, wt);
+}
+
 } // namespace fdem::kernels

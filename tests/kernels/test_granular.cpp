@@ -227,3 +227,79 @@ TEST(Granular, MixingRule) {
     EXPECT_EQ(std::string(err.what()), "granular contact bad: restitution 1.500000 is not in (0, 1]");
   }
 }
+
+namespace {
+// Two equal spheres (radius R, mass m, I = 2/5 m R^2) pressed together by forces F0 along the
+// line of their centres, at rest at the overlap delta_eq F0 holds, are given a small relative
+// velocity, normal and tangential (equal spins and opposite sideways velocities: no angular
+// momentum, so the pair does not turn as a whole; sticking, mu is huge), and stepped nsteps times
+// by central differences at dt (kick, drift, force at the half-step velocity, kick). Returns the
+// largest deviation from the resting overlap or of the tangential spring, over 1e-3 delta_eq.
+double PressedPairGrowth(const GranularPair &p, double R, double m, double delta_eq, double dt, int nsteps) {
+  const double I = 0.4 * m * R * R, a = std::sqrt(0.5 * R * delta_eq);
+  const double F0 = p.law == GranularLaw::Hooke ? p.kn * delta_eq : 4.0 / 3.0 * p.estar * std::sqrt(0.5 * R) * delta_eq * std::sqrt(delta_eq);
+  const double u  = 1e-3 * delta_eq * (p.law == GranularLaw::Hooke ? std::sqrt(p.kn / m) : std::sqrt(2 * p.estar * a / m));
+  Vec3 xa{0, 0, 0}, xb{2 * R - delta_eq, 0, 0}, va{u, -0.4 * u, 0}, vb{-u, 0.4 * u, 0}, wa{0, 0, u / R}, wb{0, 0, u / R}, fa, fb, ta, tb, shear;
+  double worst = 0;
+  for (int i = 0; i < nsteps; ++i) {
+    va += (0.5 * dt / m) * fa, vb += (0.5 * dt / m) * fb, wa += (0.5 * dt / I) * ta, wb += (0.5 * dt / I) * tb;
+    xa += dt * va, xb += dt * vb;
+    const Vec3   d = xa - xb, n = (1.0 / norm(d)) * d;
+    const double overlap = 2 * R - norm(d);
+    fa = -F0 * n, fb = F0 * n, ta = tb = {};
+    if (overlap > 0) {
+      GranularContact c;
+      c.n       = n;
+      c.overlap = overlap;
+      c.vrel    = (va + cross(wa, -R * n)) - (vb + cross(wb, R * n));
+      c.wrel    = wa - wb;
+      c.rstar   = 0.5 * R;
+      c.mstar   = 0.5 * m;
+      const GranularResult r = GranularForce(p, c, dt, shear);
+      const Vec3           f = r.fn + r.ft;
+      fa += f, fb -= f;
+      ta = cross(-R * n, f) + r.mroll, tb = cross(R * n, -f) - r.mroll;
+    }
+    va += (0.5 * dt / m) * fa, vb += (0.5 * dt / m) * fb, wa += (0.5 * dt / I) * ta, wb += (0.5 * dt / I) * tb;
+    worst = std::fmax(worst, std::fmax(std::fabs(overlap - delta_eq), norm(shear)));
+    if (!(worst < 1e3 * delta_eq)) break;
+  }
+  return worst / (1e-3 * delta_eq);
+}
+} // namespace
+
+// GranularStableOmega bounds the step: 10% below 2 / omega a pressed pair of spheres oscillates
+// with a bounded amplitude, 10% above it the oscillation grows without bound. Hooke with
+// kt = 2/7 kn has equal normal and tangential frequencies sqrt(kn / m*); Hertz-Mindlin's
+// tangential spring, 8 G* a against 2 E* a, is the faster one (the spin makes the contact point
+// 3.5 times as mobile); damping lowers the limit to 2 (sqrt(1 + zeta^2) - zeta) / omega.
+TEST(Granular, StableOmegaBoundsTheStepOfAPressedPair) {
+  const double R = 0.01, m = 2500 * 4.0 / 3.0 * kPi * R * R * R;
+  GranularPair hooke;
+  hooke.law = GranularLaw::Hooke;
+  hooke.kn  = 1e5;
+  hooke.kt  = 2.0 / 7.0 * hooke.kn;
+  hooke.mu  = 1e9;
+  EXPECT_NEAR(GranularStableOmega(hooke, m, R), std::sqrt(hooke.kn / (0.5 * m)), 1e-9 * std::sqrt(hooke.kn / (0.5 * m)));
+  GranularPair hooke_damped = hooke;
+  hooke_damped.gamma_n      = HookeDampingForRestitution(0.5, hooke.kn, 0.5 * m);
+  hooke_damped.gamma_t      = 0.5 * hooke_damped.gamma_n;
+  GranularMaterial g        = Glass();
+  g.young                   = 5e8;
+  g.friction                = 1e9;
+  g.has_friction            = true;
+  const GranularPair hertz  = MixGranular(g, g, "elastic");
+  g.restitution             = 0.3;
+  const GranularPair hertz_damped = MixGranular(g, g, "damped");
+  const double       w_n          = std::sqrt(2 * hertz.estar * std::sqrt(0.5 * R * 0.01 * R) / (0.5 * m));
+  EXPECT_NEAR(GranularStableOmega(hertz, m, R) / w_n, std::sqrt(3.5 * 4 * hertz.gstar / hertz.estar), 1e-12);
+  for (const GranularPair *p : std::initializer_list<const GranularPair *>{&hooke, &hooke_damped, &hertz, &hertz_damped}) {
+    const double w = GranularStableOmega(*p, m, R), delta_eq = 0.01 * R;
+    EXPECT_LT(PressedPairGrowth(*p, R, m, delta_eq, 0.9 * 2 / w, 4000), 20.0) << "law " << (int)p->law << " alpha " << p->alpha << " gamma_n " << p->gamma_n;
+    EXPECT_GT(PressedPairGrowth(*p, R, m, delta_eq, 1.1 * 2 / w, 4000), 1e3) << "law " << (int)p->law << " alpha " << p->alpha << " gamma_n " << p->gamma_n;
+  }
+  // the normal spring's undamped frequency alone would not do: Hertz-Mindlin's tangential spring
+  // and Hooke's damping make a pair unstable below 2 / sqrt(kn / m*)
+  EXPECT_GT(PressedPairGrowth(hertz, R, m, 0.01 * R, 0.9 * 2 / w_n, 4000), 1e3);
+  EXPECT_GT(PressedPairGrowth(hooke_damped, R, m, 0.01 * R, 0.9 * 2 / std::sqrt(hooke.kn / (0.5 * m)), 4000), 1e3);
+}

@@ -94,6 +94,15 @@ double HookeRestitution(double kn, double gamma_n, double mstar);
 // Duration of a head-on Hooke contact (overlap > 0), s.
 double HookeContactTime(double kn, double gamma_n, double mstar);
 
+// The frequency (rad/s) that bounds an explicit step for contacts between two equal
+// spheres of this mass and radius with the pair's law: the larger of the normal
+// spring's, sqrt(kn / m*), and the tangential spring's, sqrt(3.5 kt / m*) (the spin
+// makes a solid sphere's contact point 1 + m r^2 / I = 3.5 times as mobile as its
+// centre), each multiplied by zeta + sqrt(1 + zeta^2) for its damping ratio zeta (the
+// central-difference limit of a damped oscillator, K = 2 (sqrt(1 + zeta^2) - zeta)).
+// Hertz's stiffnesses are taken at an overlap of 1% of the radius.
+double GranularStableOmega(const GranularPair &p, double mass, double radius);
+
 // Hertz's elastic head-on impact at relative speed v: peak force and contact
 // duration for E*, R*, m*.
 double HertzPeakForce(double estar, double rstar, double mstar, double v);
