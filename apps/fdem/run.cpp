@@ -180,8 +180,9 @@ PetscErrorCode WriteBodies(Sim &s, const std::string &file) {
   PetscFunctionReturn(0);
 }
 
-// The fragments of the fracturable run (FDEMDeformableGetFragments): prints their number and,
-// when file is not empty, writes one row per fragment. Collective.
+// The fragments of the deformable bodies (FDEMDeformableGetFragments; a body without a crack
+// through it is one): with fracturable bodies prints their number; when file is not empty,
+// writes one row per fragment. Collective.
 PetscErrorCode WriteFragments(Sim &s, const std::string &file) {
   PetscInt      n;
   FDEMFragment *f;
@@ -189,11 +190,11 @@ PetscErrorCode WriteFragments(Sim &s, const std::string &file) {
   FILE         *fp  = nullptr;
   int           err = 0;
   PetscFunctionBeginUser;
-  if (!s.dfm || s.njoints == 0) PetscFunctionReturn(0);
+  if (!s.dfm || (s.njoints == 0 && file.empty())) PetscFunctionReturn(0);
   if (s.U) PetscCall(SimRestore(s));
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
   PetscCall(FDEMDeformableGetFragments(s.dfm, nullptr, &n, &f));
-  PetscCall(PetscPrintf(s.comm, "fragments: %" PetscInt_FMT " (connected pieces of the deformable bodies over their unbroken joints)%s%s\n", n, file.empty() ? "" : "; ", file.c_str()));
+  if (s.njoints > 0) PetscCall(PetscPrintf(s.comm, "fragments: %" PetscInt_FMT " (connected pieces of the deformable bodies over their unbroken joints)%s%s\n", n, file.empty() ? "" : "; ", file.c_str()));
   if (!file.empty() && rank == 0) {
     fp  = std::fopen(file.c_str(), "w");
     err = fp ? 0 : 1;

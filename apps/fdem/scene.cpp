@@ -447,6 +447,8 @@ Scene ReadScene(const std::string &file, const char *text) {
     if (c["normal_damping"]) sc.contact.normal_damping = r.NonNegative(c["normal_damping"], "contact.normal_damping");
     if (c["tangential_viscosity"]) sc.contact.tangential_viscosity = r.NonNegative(c["tangential_viscosity"], "contact.tangential_viscosity");
     if (c["buffer"] && !(c["buffer"].IsScalar() && c["buffer"].Scalar() == "auto")) sc.contact.buffer = r.Positive(c["buffer"], "contact.buffer (a length or auto)");
+    if (sc.contact.friction > 0 && !(sc.contact.tangential_viscosity > 0))
+      r.Fail(c["friction"], "contact.friction: friction between tetrahedra is regularised, F_t = -min(friction |F_n|, tangential_viscosity A |v_t|), so it needs contact.tangential_viscosity > 0 (Pa s/m; doc/contact.md); without it there is no friction");
   }
 
   if (root["periodic"]) {
