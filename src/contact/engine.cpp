@@ -163,9 +163,15 @@ PetscErrorCode Engine::SetSelfContact(PetscBool self) {
   PetscFunctionReturn(0);
 }
 
+// At every evaluation between tetrahedra: the penalty is set, and a friction coefficient has
+// the tangential viscosity it needs (checked here, not when set, so that the two may be set
+// in either order).
 PetscErrorCode Engine::CheckPenaltySet() const {
   PetscFunctionBegin;
   PetscCheck(par_.penalty > 0, comm_, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
+  PetscCheck(!(par_.diss.friction > 0) || par_.diss.tangential_viscosity > 0, comm_, PETSC_ERR_ARG_WRONGSTATE,
+             "%s: a friction coefficient (%g) needs a tangential viscosity > 0 (-fdem_contact_tangential_viscosity): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md), so with c_t = 0 there is none",
+             who_.c_str(), (double)par_.diss.friction);
   PetscFunctionReturn(0);
 }
 

@@ -25,8 +25,6 @@ inline PetscErrorCode SetDissipation(MPI_Comm comm, const char *who, PetscReal d
   PetscCheck(damping >= 0 && std::isfinite(damping), comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the damping must be >= 0, got %g", who, (double)damping);
   PetscCheck(friction >= 0 && std::isfinite(friction), comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the friction coefficient must be >= 0, got %g", who, (double)friction);
   PetscCheck(tangential_viscosity >= 0 && std::isfinite(tangential_viscosity), comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the tangential viscosity must be >= 0, got %g", who, (double)tangential_viscosity);
-  PetscCheck(!(friction > 0) || tangential_viscosity > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "%s: a friction coefficient (%g) needs a tangential viscosity > 0: the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md), so with c_t = 0 there is none", who, (double)friction);
   d.normal_damping       = damping;
   d.friction             = friction;
   d.tangential_viscosity = tangential_viscosity;
