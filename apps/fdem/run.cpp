@@ -306,6 +306,7 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscOptionsBegin(comm, nullptr, "fdem driver (scene keys: fdem --help)", "fdem");
   PetscCall(PetscOptionsString("-fdem_output", "output folder (overrides output.dir of the scene; none: write nothing)", "", o.output, o.output, sizeof(o.output), nullptr));
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_balance_gain_limit", "stop when balance.csv shows the scene gained more than this fraction of its energy (an unstable step); 0: never", "", o.gain_limit, &o.gain_limit, nullptr));
   PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
@@ -434,7 +435,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscTime(&prog.wall0));
   prog.last = prog.wall0;
   PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
-  double   maxdP        = 0;
+  double   maxdP        = 0, scale = 0;
   PetscInt ncheckpoints = 0;
   while (step < nsteps && t < end * (1 - 1e-12)) {
     TSConvergedReason reason;
@@ -448,6 +449,16 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
     PetscCall(WriteBalanceRow(bal, b));
+    // an energy gain far above the integration error is an unstable step: stop, and say why
+    scale = std::max(scale, b.kinetic + std::fabs(b.strain) + std::fabs(b.contact) + b.fracture + std::fabs(b.external_work) + std::fabs(b.gravity - first.gravity));
+    const PetscReal gain = -(b.dissipated - first.dissipated); // above round-off in the totals, which hold gravity's arbitrary datum
+    if (o.gain_limit > 0 && gain > o.gain_limit * scale && gain > 1e-9 * (std::fabs(first.total) + std::fabs(first.gravity) + scale)) {
+      if (bal) std::fflush(bal);
+      SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
+              "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.0f%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
+              "dt: auto bounds one contact of the stiffest kind; dense packs (a body pressed by several at once) and elongated bodies' rotation can be faster: lower time.safety or time.dt (-fdem_balance_gain_limit %g stops at this fraction; 0 never stops)",
+              sc.file.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit);
+    }
     if (write && !platens.empty()) { // the force on each platen at the segment's last evaluation (collective)
       std::vector<PetscReal> F(3 * platens.size());
       for (size_t k = 0; k < platens.size(); ++k) PetscCall(FDEMRigidGetBodyForce(s.rb, platens[k].first, &F[3 * k]));

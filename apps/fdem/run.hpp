@@ -17,6 +17,7 @@ struct RunOptions {
   char      restart[PETSC_MAX_PATH_LEN] = ""; // -restart: continue from this checkpoint
   PetscInt  kill_in_checkpoint          = 0; // test hook: SIGKILL between writing the k-th checkpoint and renaming it
   PetscBool check_only                 = PETSC_FALSE; // fdem check
+  PetscReal gain_limit                 = 0.5; // -fdem_balance_gain_limit: stop when the scene gained this fraction of its energy
 };
 
 // Reads the driver's options (-fdem_output, -fdem_progress) in a PetscOptions block (shown by -help).
