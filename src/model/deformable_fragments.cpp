@@ -208,7 +208,8 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    triangle b's nodes in tetrahedron b and that tetrahedron's id; back over it, the rank of
   //    tetrahedron b learns, at the node that stands for the face (node (o + 1) % 4 for the face
   //    opposite node o; one face per node), whether an intact joint glues it (kGlued) or a broken
-  //    one faced tetrahedron a (that cell's id), and which of its nodes are glued to another rank.
+  //    one held by another rank faced tetrahedron a (that cell's id; a broken joint within the
+  //    rank is listed once, by its own rank), and which of its nodes are glued to another rank.
   std::vector<unsigned char>           freef(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_b, nbnd, cbnd; // nodes of triangles b glued to another rank; nodes and cells glued to another rank
@@ -239,7 +240,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         cbnd.push_back(ca[j]);
       }
       for (int i = 0; i < 3; ++i) {
-        L[3 * i]     = slot[i] == (ob + 1) % 4 ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
+        L[3 * i]     = slot[i] == (ob + 1) % 4 && !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
         L[3 * i + 1] = !broken && remote ? 1 : kNoFace;
         L[3 * i + 2] = kNoFace;
       }
@@ -259,7 +260,6 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
   std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end()); // a joint within the rank came twice
   // 2. This rank's classes: node keys (the nodes of free faces flagged) and fragments.
   Classes nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
   for (PetscInt e = 0; e < nc; ++e)
