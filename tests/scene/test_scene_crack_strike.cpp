@@ -1,21 +1,30 @@
 // A rigid body strikes the face of a crack (doc/fracture.md, "Broken joints"). A fracturable
-// bar (0.4 x 0.1 x 0.1 m, 8 x 2 x 2 cubes of 6 tetrahedra, E = 1 GPa, p = 10 E) lies along x;
-// a small rigid steel cube (0.02 m) waits above its middle. After FDEMSceneSetUpTS, so after the
-// rigid-deformable contact has listed the intact bar's surface, the 8 joints of the middle plane
-// x = 0.2 are broken by hand and the bar's left half is sent away at 5 m/s (its nodes, as a
-// fragment knocked off). The cube comes down at 5 m/s into the opening gap while moving at
-// 1 m/s towards the right half, whose crack face it strikes at about 12 ms, 3 cm below the top.
-// Nothing is fixed; no gravity, damping or friction. Asserted, on 1 and 2 ranks:
-//  1. the contact acts on the exposed face: the cube's x-velocity goes from +1 to below -0.9 m/s
-//     and it never goes deeper than 1e-4 m into the right half (its right side against the half's
-//     smallest x; the elastic rebound off a 4 kg half is -0.97 m/s with the bar's ringing);
-//     without the exposed faces in the rigid-deformable adapter (the topology not re-listed on a
-//     change of the broken joints; checked by hand) the cube passes into the half;
-//  2. the total linear momentum (cube and mesh) is conserved to 1e-12 of its size;
-//  3. the energy (kinetic, strain, the joints' stored and dissipated energy, contact) at the end
-//     equals the initial one within 2e-3 of the cube's kinetic energy of motion along x (the
-//     only part that the frictionless vertical face exchanges);
+// bar (0.4 x 0.2 x 0.2 m, 8 x 4 x 4 cubes of 6 tetrahedra, E = 1 GPa, p = 10 E) lies along x;
+// a small rigid steel cube (0.02 m, 62.4 g) waits above its middle. After FDEMSceneSetUpTS, so
+// after the rigid-deformable contact has listed the intact bar, the 32 joints of the middle
+// plane x = 0.2 are broken by hand and the bar's left half is sent away at 5 m/s (its nodes; a
+// fragment knocked off). The cube comes down at 18 m/s into the opening gap while moving at
+// 1 m/s towards the right half, and strikes its crack face at about 12 ms, 0.09-0.11 m high,
+// in the middle of the face: there the tetrahedra have no vertex on the bar's outer surface,
+// so they take part in the rigid contact only because the adapter lists the crack's faces
+// again when the broken joints change. Nothing is fixed; no gravity, damping or friction.
+// Asserted, on 1 and 2 ranks, at dt = 2.5e-6 and 1.25e-6 s (contact penalty 1e10 Pa):
+//  1. the face stops the cube: its x-velocity goes from +1 m/s to between -1 and +0.2 m/s
+//     (measured -0.33: a 62 g cube against a face patch of comparable mass backed by the
+//     bar is stopped, as a mass striking a long elastic bar, more than it bounces), and it
+//     never goes deeper than 1e-4 m into the right half (its right side against the half's
+//     smallest x; measured 1.6e-5 m). With the crack's faces not listed again for the rigid
+//     contact (checked by hand: MeshAdapter::Changed returning at once for the adapter of
+//     cells with a boundary vertex) the cube goes 2.6e-3 m into the half before tetrahedra
+//     with a surface vertex throw it out at -10 m/s, and the energy is off by 0.7-1.9 times
+//     the cube's;
+//  2. the total linear momentum (cube and mesh) is conserved to 1e-12 of its size (9e-15);
+//  3. the energy (kinetic, strain, the joints' stored and dissipated energy, contact) at the
+//     end equals the initial one within 2e-3 of the cube's kinetic energy of motion along x,
+//     0.0312 J (the part the frictionless vertical face exchanges), at the smaller dt
+//     (measured 9.6e-4; 3.8e-3 at the larger, so it shrinks with dt as it must);
 //  4. on 2 ranks, the same run on one rank gives the cube's state to 1e-10 relative.
+// -history prints the cube's state every 20 steps.
 #include <fdem.h>
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>
@@ -28,7 +37,7 @@
 
 namespace {
 using fdem::kernels::Vec3;
-constexpr double L = 0.4, E = 1.0e9, rho = 2000, a = 0.02, rho_cube = 7800, VL = 5, vx0 = 1, vz0 = 5;
+constexpr double L = 0.4, E = 1.0e9, rho = 2000, a = 0.02, rho_cube = 7800, VL = 5, vx0 = 1, vz0 = 18;
 
 struct Result {
   double             P0[3], Pdrift = 0, Pscale = 0, E0 = 0, E1 = 0, Ecmax = 0, depth = -1, vx_end = 0;
@@ -100,8 +109,8 @@ PetscErrorCode Strike(MPI_Comm comm, PetscReal dt, PetscReal tend, bool verbose,
   PetscCall(FDEMDeformableCreate(comm, &d));
   PetscCall(FDEMDeformableAddMaterial(d, "rock", E, 0.25, rho, 0, FDEM_MATERIAL_MUNJIZA_CST));
   PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 50, 200, 10 * E));
-  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
-  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 8, 2, 2));
+  const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.2, 0.2};
+  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 8, 4, 4));
   PetscCall(FDEMDeformableSetUp(d));
   std::vector<int> side;
   PetscCall(Sides(d, side));
@@ -119,8 +128,8 @@ PetscErrorCode Strike(MPI_Comm comm, PetscReal dt, PetscReal tend, bool verbose,
   std::vector<PetscInt>  tets;
   for (const auto &p : cn) nodes.insert(nodes.end(), {p.x, p.y, p.z});
   for (const auto &t : ct) tets.insert(tets.end(), t.begin(), t.end());
-  const PetscReal Q[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, x[3] = {L / 2 - 0.022, 0.05, 0.13 + a / 2}, vc[3] = {vx0, 0, -vz0}, w[3] = {0, 0, 0};
-  const PetscReal dlo[3] = {-0.2, -0.1, -0.1}, dhi[3] = {0.6, 0.2, 0.3};
+  const PetscReal Q[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, x[3] = {L / 2 - 0.022, 0.1, 0.306 + a / 2}, vc[3] = {vx0, 0, -vz0}, w[3] = {0, 0, 0};
+  const PetscReal dlo[3] = {-0.2, -0.1, -0.1}, dhi[3] = {0.6, 0.3, 0.5};
   PetscCall(FDEMRigidCreate(comm, &rb));
   PetscCall(FDEMRigidSetDomain(rb, dlo, dhi));
   PetscCall(FDEMRigidAddBodyFromMesh(rb, "cube", (PetscInt)cn.size(), nodes.data(), (PetscInt)ct.size(), tets.data(), rho_cube, x, Q, vc, w, nullptr));
@@ -136,7 +145,7 @@ PetscErrorCode Strike(MPI_Comm comm, PetscReal dt, PetscReal tend, bool verbose,
   PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscInt broken;
   PetscCall(BreakMiddle(d, &broken)); // after the contact has listed the intact bar
-  CHECK(broken == 8, "%" PetscInt_FMT " joints broken by hand, expected the 8 of the middle plane", broken);
+  CHECK(broken == 32, "%" PetscInt_FMT " joints broken by hand, expected the 32 of the middle plane", broken);
   PetscReal Ec;
   PetscCall(Energy(sc, d, U, 0, res.P0, &res.E0, &Ec));
   const PetscInt nsteps = (PetscInt)std::lround(tend / dt), chunk = 20;
@@ -176,7 +185,7 @@ PetscErrorCode Strike(MPI_Comm comm, PetscReal dt, PetscReal tend, bool verbose,
 } // namespace
 
 int main(int argc, char **argv) {
-  PetscReal   dts[4] = {2.5e-6, 1.25e-6}, tend = 0.02;
+  PetscReal   dts[4] = {2.5e-6, 1.25e-6}, tend = 0.016;
   PetscInt    ndt    = 4;
   PetscBool   flg, verbose = PETSC_FALSE;
   PetscMPIInt size, rank;
@@ -198,7 +207,7 @@ int main(int argc, char **argv) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "dt %.3e: cube vx %.4f -> %.4f m/s, deepest %.3e m into the right half, peak contact energy %.3e J (sampled), momentum drift %.2e (relative), energy %.9g -> %.9g J (%.3e of the cube's x kinetic energy %.4g J)\n", (double)dt, vx0, (double)r.vx_end, (double)r.depth, (double)r.Ecmax,
                           (double)(r.Pdrift / r.Pscale), (double)r.E0, (double)r.E1, err.back(), Kx));
     CHECK(r.Ecmax > 0, "dt %g: the cube never touched the crack's face", (double)dt);
-    CHECK(r.vx_end < 0.2 * vx0, "dt %g: the crack's face did not stop the cube: vx = %g m/s at the end", (double)dt, (double)r.vx_end);
+    CHECK(r.vx_end < 0.2 * vx0 && r.vx_end > -vx0, "dt %g: the crack's face did not stop the cube, or threw it back faster than it came: vx = %g m/s at the end", (double)dt, (double)r.vx_end);
     CHECK(r.depth < 1e-4, "dt %g: the cube went %g m deep into the right half", (double)dt, (double)r.depth);
     CHECK(r.Pdrift < 1e-12 * r.Pscale, "dt %g: linear momentum drifts by %g relative", (double)dt, (double)(r.Pdrift / r.Pscale));
     if (i == ndt - 1) CHECK(err.back() < 2e-3, "dt %g: energy off by %g J, %g of the cube's x kinetic energy", (double)dt, (double)(r.E1 - r.E0), err.back());
