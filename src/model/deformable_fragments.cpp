@@ -5,7 +5,7 @@
 // A joint is broken when all three of its points are. The topology is computed where the
 // cells are, without gathering the mesh anywhere. Each rank first works out what it can
 // alone: the faces of its cells that are free (on the body's surface or on a broken joint)
-// and the broken joints that touch its cells, with one exchange over the joint SF (the rank
+// and the broken joints that touch its cells, with an exchange each way over the joint SF (the rank
 // of tetrahedron b learns which of its faces are glued by an intact joint held elsewhere, and
 // the partner of a broken one); then two union-finds over its own nodes and cells: node keys
 // (copies glued by intact joints) and fragments (cells of one body sharing a node or held by
@@ -17,10 +17,13 @@
 // classes that receive the same label (they touch the same class elsewhere). When a round
 // changes no label on any rank (one MPI_Allreduce), every class has the smallest id in it;
 // the smallest label travels at least one hop between the ranks' pieces per round, so the
-// number of rounds is at most the number of those pieces, which bounds the loop. Fragments
-// are then numbered by body and smallest cell id, the same order on any number of ranks.
-// Memory per rank: its cells, nodes and joints, the cells and nodes at its rank boundaries,
-// and one (body, id) pair per fragment of the whole mesh (the numbering).
+// rounds are at most one more than the number of those pieces, which bounds the loop. Fragments
+// are then numbered by body and smallest cell id, the same order on any number of ranks, from
+// the (body, id) pairs of all fragments (one MPI_Allgatherv). Cost of a call: a pass over the
+// rank's cells, nodes and joints, two exchanges over the joint SF, the rendezvous, then per
+// round two exchanges over the straddling joints, two over the shared nodes and one
+// MPI_Allreduce, each the size of the rank boundaries. Memory per rank: its cells, nodes and
+// joints, the classes at its rank boundaries, and two integers per fragment of the whole mesh.
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -212,7 +215,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    rank is listed once, by its own rank), and which of its nodes are glued to another rank.
   std::vector<unsigned char>           freef(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
-  std::vector<PetscInt>                remote_b, nbnd, cbnd; // nodes of triangles b glued to another rank; nodes and cells glued to another rank
+  std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
   std::vector<PetscInt>                root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
   for (PetscInt e = 0; e < nc; ++e)
     if (frac(e)) freef[e] = 0xF;
@@ -231,6 +234,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       for (int i = 0; i < 3; ++i) {
         oa -= (int)node_slot[d->jnode_a[j][i]];
         ob -= slot[i] = (int)L[3 * i];
+        PetscCheck(slot[i] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node of triangle b in no fracturable cell", d->jgid[j]);
       }
       const PetscInt gb = L[1];
       if (broken) pairs.push_back({std::min(d->cell_gid[ca[j]], gb), std::max(d->cell_gid[ca[j]], gb)});
@@ -238,6 +242,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       if (!broken && remote) {
         for (int i = 0; i < 3; ++i) nbnd.push_back(d->jnode_a[j][i]);
         cbnd.push_back(ca[j]);
+        remote_j.push_back(j);
       }
       for (int i = 0; i < 3; ++i) {
         L[3 * i]     = slot[i] == (ob + 1) % 4 && !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
@@ -306,6 +311,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   PetscInt pieces = nodes.Count(nbnd) + cells.Count(cbnd), bound;
   PetscCallMPI(MPIU_Allreduce(&pieces, &bound, 1, MPIU_INT, MPI_SUM, d->comm));
   std::vector<PetscInt> aleaf(9 * (std::size_t)nj), broot(3 * (std::size_t)nl), vleaf(vcell.size()), vroot;
+  for (std::size_t k = 0; k < aleaf.size(); ++k) aleaf[k] = k % 3 == 2 ? 1 : kNone; // a broken joint sends nothing (MPI_MIN)
   PetscInt              nvroot = 0, round = 0;
   if (vsf) PetscCall(PetscSFGetGraph(vsf, &nvroot, nullptr, nullptr, nullptr));
   vroot.resize(nvroot);
@@ -323,25 +329,20 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         broot[3 * l + 1] = kNone;
         broot[3 * l + 2] = 1;
       }
-      for (PetscInt j = 0; j < nj; ++j)
-        if (d->jnode_b[j][0] < 0) {
-          const bool intact = !JointBroken(d->jstate[j]);
-          for (int i = 0; i < 3; ++i) {
-            aleaf[9 * j + 3 * i]     = intact ? nodes.Label(d->jnode_a[j][i]) : kNone;
-            aleaf[9 * j + 3 * i + 1] = intact ? cells.Label(ca[j]) : kNone;
-            aleaf[9 * j + 3 * i + 2] = intact ? !nodes.flag[nodes.Find(d->jnode_a[j][i])] : 1; // the flag as 1 - flag, for MPI_MIN
-          }
+      for (PetscInt j : remote_j)
+        for (int i = 0; i < 3; ++i) {
+          aleaf[9 * j + 3 * i]     = nodes.Label(d->jnode_a[j][i]);
+          aleaf[9 * j + 3 * i + 1] = cells.Label(ca[j]);
+          aleaf[9 * j + 3 * i + 2] = !nodes.flag[nodes.Find(d->jnode_a[j][i])]; // the flag as 1 - flag, for MPI_MIN
         }
       PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
       PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
       PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
       PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
-      for (PetscInt j = 0; j < nj; ++j)
-        if (d->jnode_b[j][0] < 0 && !JointBroken(d->jstate[j]))
-          for (int i = 0; i < 3; ++i) {
-            rn.Add(d->jnode_a[j][i], leaf[9 * j + 3 * i], (char)leaf[9 * j + 3 * i + 2]);
-            if (i == 0) rc.Add(ca[j], leaf[9 * j + 1], 0);
-          }
+      for (PetscInt j : remote_j) {
+        for (int i = 0; i < 3; ++i) rn.Add(d->jnode_a[j][i], leaf[9 * j + 3 * i], (char)leaf[9 * j + 3 * i + 2]);
+        rc.Add(ca[j], leaf[9 * j + 1], 0);
+      }
       for (PetscInt l : remote_b) {
         rn.Add(l, broot[3 * l], (char)!broot[3 * l + 2]);
         rc.Add(node_cell[l], broot[3 * l + 1], 0);
