@@ -1,16 +1,29 @@
-// Deformable bodies, broken joints and fragments (doc/fracture.md): the
-// topology of a fractured mesh, which the contact adapter
-// (src/contact/mesh_adapter.cpp) and FDEMDeformableGetFragments use.
+// Deformable bodies, broken joints and fragments (doc/fracture.md): the topology of a
+// fractured mesh, which the contact adapter (src/contact/mesh_adapter.cpp) and
+// FDEMDeformableGetFragments use.
 //
-// A joint is broken when all three of its points are. The topology is computed
-// on rank 0: every rank sends it its cells (id, body, node ids) and its joints
-// (the node ids of both triangles, broken or not), rank 0 runs two union-finds
-// and sends each rank the answer for its cells. This costs one gather of the
-// mesh's cells and joints each time it is asked for (at set-up of a contact
-// adapter, when the number of broken joints changes, and for each
-// FDEMDeformableGetFragments), which is acceptable for the meshes fdem runs
-// today; a distributed version (label propagation over the joint SF) would
-// replace it for large ones.
+// A joint is broken when all three of its points are. The topology is computed where the
+// cells are, without gathering the mesh anywhere. Each rank first works out what it can
+// alone: the faces of its cells that are free (on the body's surface or on a broken joint)
+// and the broken joints that touch its cells, with an exchange each way over the joint SF (the rank
+// of tetrahedron b learns which of its faces are glued by an intact joint held elsewhere, and
+// the partner of a broken one); then two union-finds over its own nodes and cells: node keys
+// (copies glued by intact joints) and fragments (cells of one body sharing a node or held by
+// an intact joint). Every class carries a label, the smallest global id known to be in it.
+// The classes that reach other ranks are completed by rounds of label exchange: over the
+// joint SF (both ways) for the intact joints that straddle two ranks, and over a second SF
+// for the nodes that cells of a body share across ranks (built by a rendezvous on each
+// node's id). Each rank lowers its classes' labels to what it receives, and joins its own
+// classes that receive the same label (they touch the same class elsewhere). When a round
+// changes no label on any rank (one MPI_Allreduce), every class has the smallest id in it;
+// the smallest label travels at least one hop between the ranks' pieces per round, so the
+// rounds are at most one more than the number of those pieces, which bounds the loop. Fragments
+// are then numbered by body and smallest cell id, the same order on any number of ranks, from
+// the (body, id) pairs of all fragments (one MPI_Allgatherv). Cost of a call: a pass over the
+// rank's cells, nodes and joints, two exchanges over the joint SF, the rendezvous, then per
+// round two exchanges over the straddling joints, two over the shared nodes and one
+// MPI_Allreduce, each the size of the rank boundaries. Memory per rank: its cells, nodes and
+// joints, the classes at its rank boundaries, and two integers per fragment of the whole mesh.
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -23,10 +36,14 @@
 using namespace fdem::model::deformable;
 
 namespace {
-// Union-find whose root is the smallest member.
-struct UnionFind {
-  std::vector<PetscInt> p;
-  explicit UnionFind(PetscInt n) : p(n) { std::iota(p.begin(), p.end(), (PetscInt)0); }
+// Union-find over a rank's nodes or cells whose root carries a label, the smallest global id
+// known to be in its class, and a flag (or-ed over the class).
+struct Classes {
+  std::vector<PetscInt> p, label;
+  std::vector<char>     flag;
+  bool                  changed = false; // a label or a flag changed since reset
+
+  explicit Classes(const std::vector<PetscInt> &ids) : p(ids.size()), label(ids), flag(ids.size(), 0) { std::iota(p.begin(), p.end(), (PetscInt)0); }
   PetscInt Find(PetscInt i) {
     while (p[i] != i) i = p[i] = p[p[i]];
     return i;
@@ -34,8 +51,53 @@ struct UnionFind {
   void Unite(PetscInt a, PetscInt b) {
     a = Find(a);
     b = Find(b);
-    if (a < b) p[b] = a;
-    else if (b < a) p[a] = b;
+    if (a == b) return;
+    if (label[b] < label[a]) std::swap(a, b);
+    changed = changed || label[a] != label[b] || flag[a] != flag[b];
+    p[b]    = a;
+    flag[a] = flag[a] | flag[b];
+  }
+  // what a class elsewhere that touches i says: its label L and flag f
+  void Lower(PetscInt i, PetscInt L, char f) {
+    const PetscInt r = Find(i);
+    if (L < label[r]) label[r] = L, changed = true;
+    if (f && !flag[r]) flag[r] = 1, changed = true;
+  }
+  PetscInt Label(PetscInt i) { return label[Find(i)]; }
+  // the number of classes among the elements of list
+  PetscInt Count(const std::vector<PetscInt> &list) {
+    std::vector<PetscInt> r(list.size());
+    for (std::size_t k = 0; k < list.size(); ++k) r[k] = Find(list[k]);
+    std::sort(r.begin(), r.end());
+    return (PetscInt)(std::unique(r.begin(), r.end()) - r.begin());
+  }
+};
+
+// Received labels: (element, label, flag). Elements that receive the same label, or whose
+// class already has it, are in one class (each touches the class of the element with that
+// id); then each class takes the smallest label and the or of the flags it received.
+struct Received {
+  std::vector<PetscInt> elem, label;
+  std::vector<char>     flag;
+  void                  Add(PetscInt e, PetscInt L, char f) {
+    elem.push_back(e);
+    label.push_back(L);
+    flag.push_back(f);
+  }
+  void Apply(Classes &c, const std::vector<PetscInt> &boundary) {
+    std::unordered_map<PetscInt, PetscInt> first;
+    for (PetscInt b : boundary) {
+      const auto it = first.emplace(c.Label(b), b);
+      if (!it.second) c.Unite(it.first->second, b);
+    }
+    for (std::size_t k = 0; k < elem.size(); ++k) {
+      const auto it = first.emplace(label[k], elem[k]);
+      if (!it.second) c.Unite(it.first->second, elem[k]);
+      c.Lower(elem[k], label[k], flag[k]);
+    }
+    elem.clear();
+    label.clear();
+    flag.clear();
   }
 };
 
@@ -45,6 +107,66 @@ std::vector<char> FracturableBodies(FDEMDeformable d) {
   std::vector<char> f(d->body_names.size(), 0);
   for (std::size_t b = 0; b < f.size(); ++b) f[b] = d->fracture.count(d->materials[d->material_of_body[b]].name) > 0;
   return f;
+}
+
+// The nodes this rank shares with others (1 per local node), through the DM's ghost nodes.
+PetscErrorCode SharedNodes(FDEMDeformable d, std::vector<char> &shared) {
+  Vec          l, g;
+  PetscScalar *a;
+  PetscFunctionBegin;
+  PetscCall(DMGetLocalVector(d->dm, &l));
+  PetscCall(DMGetGlobalVector(d->dm, &g));
+  PetscCall(VecSet(l, 1));
+  PetscCall(VecSet(g, 0));
+  PetscCall(DMLocalToGlobal(d->dm, l, ADD_VALUES, g));
+  PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
+  PetscCall(VecGetArray(l, &a));
+  shared.assign(d->nlocal, 0);
+  for (PetscInt i = 0; i < d->nlocal; ++i) shared[i] = PetscRealPart(a[3 * i]) > 1.5;
+  PetscCall(VecRestoreArray(l, &a));
+  PetscCall(DMRestoreGlobalVector(d->dm, &g));
+  PetscCall(DMRestoreLocalVector(d->dm, &l));
+  PetscFunctionReturn(0);
+}
+
+// An SF whose leaves are the given keys (two ints each) and whose roots are the distinct keys,
+// one root each on the rank key[0] % size (a rendezvous): leaves with one key share a root.
+PetscErrorCode KeySF(MPI_Comm comm, const std::vector<std::array<PetscInt, 2>> &keys, PetscSF *sf) {
+  PetscMPIInt size;
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<PetscMPIInt> sc(size, 0), rc(size), sd(size + 1, 0), rd(size + 1, 0), at(size);
+  for (const auto &k : keys) sc[k[0] % size] += 2;
+  PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm));
+  for (int r = 0; r < size; ++r) {
+    sd[r + 1] = sd[r] + sc[r];
+    rd[r + 1] = rd[r] + rc[r];
+  }
+  std::vector<PetscInt> sbuf(sd[size]), rbuf(rd[size]), where(keys.size());
+  std::copy(sd.begin(), sd.end() - 1, at.begin());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const int r = (int)(keys[i][0] % size);
+    where[i]    = at[r];
+    sbuf[at[r]] = keys[i][0], sbuf[at[r] + 1] = keys[i][1];
+    at[r] += 2;
+  }
+  PetscCallMPI(MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPIU_INT, rbuf.data(), rc.data(), rd.data(), MPIU_INT, comm));
+  std::vector<std::array<PetscInt, 2>> mine(rd[size] / 2);
+  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = {rbuf[2 * i], rbuf[2 * i + 1]};
+  std::vector<std::array<PetscInt, 2>> roots = mine;
+  std::sort(roots.begin(), roots.end());
+  roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
+  for (std::size_t i = 0; i < mine.size(); ++i) rbuf[2 * i] = rbuf[2 * i + 1] = (PetscInt)(std::lower_bound(roots.begin(), roots.end(), mine[i]) - roots.begin());
+  PetscCallMPI(MPI_Alltoallv(rbuf.data(), rc.data(), rd.data(), MPIU_INT, sbuf.data(), sc.data(), sd.data(), MPIU_INT, comm));
+  std::vector<PetscSFNode> remote(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    remote[i].rank  = (PetscInt)(keys[i][0] % size);
+    remote[i].index = sbuf[where[i]];
+  }
+  PetscCall(PetscSFCreate(comm, sf));
+  PetscCall(PetscSFSetGraph(*sf, (PetscInt)roots.size(), (PetscInt)keys.size(), nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetUp(*sf));
+  PetscFunctionReturn(0);
 }
 } // namespace
 
@@ -67,152 +189,215 @@ PetscErrorCode fdem::model::DeformableBrokenJoints(FDEMDeformable d, PetscInt *n
 }
 
 PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t) {
-  constexpr int CI = 6, JI = 7,
-                OI = 6; // ints per cell and per joint sent to rank 0, per cell back
+  constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableFractureTopology"));
-  const PetscMPIInt size = d->size;
-  const PetscInt    nc = (PetscInt)d->ed.size(), nj = (PetscInt)d->jnode_a.size();
+  const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
   t.fracturable          = FracturableBodies(d);
   const PetscInt nbodies = (PetscInt)t.fracturable.size();
-  // the global ids of triangle b's nodes, through the joint SF (roots: 3
-  // entries per local node)
-  std::vector<PetscScalar> bg(9 * (std::size_t)nj);
-  if (d->njoints_global > 0) {
-    std::vector<PetscScalar> roots(3 * (std::size_t)d->nlocal);
-    for (PetscInt l = 0; l < d->nlocal; ++l)
-      for (int k = 0; k < 3; ++k) roots[3 * l + k] = (PetscScalar)d->node_gid[l];
-    PetscCall(PetscSFBcastBegin(d->jsf, MPIU_SCALAR, roots.data(), bg.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(d->jsf, MPIU_SCALAR, roots.data(), bg.data(), MPI_REPLACE));
-  }
-  std::vector<PetscInt> cells(CI * (std::size_t)nc), joints(JI * (std::size_t)nj);
-  for (PetscInt e = 0; e < nc; ++e) {
-    cells[CI * e]     = d->cell_gid[e];
-    cells[CI * e + 1] = d->ed.body[e];
-    for (int a = 0; a < 4; ++a) cells[CI * e + 2 + a] = d->node_gid[d->ed.elems[e].n[a]];
-  }
+  const auto     frac    = [&](PetscInt e) { return t.fracturable[d->ed.body[e]] != 0; };
+  const auto     node    = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
+  // the cell of each node of a fracturable body (a split node has one) and its place in it
+  std::vector<PetscInt> node_cell(nl, -1), node_slot(nl, -1);
+  for (PetscInt e = 0; e < nc; ++e)
+    if (frac(e))
+      for (int a = 0; a < 4; ++a) node_cell[node(e, a)] = e, node_slot[node(e, a)] = a;
+  std::vector<PetscInt> ca(nj); // each joint's tetrahedron a
   for (PetscInt j = 0; j < nj; ++j) {
-    for (int i = 0; i < 3; ++i) {
-      joints[JI * j + i]     = d->node_gid[d->jnode_a[j][i]];
-      joints[JI * j + 3 + i] = (PetscInt)PetscRealPart(bg[9 * j + 3 * i]);
-    }
-    joints[JI * j + 6] = JointBroken(d->jstate[j]) ? 1 : 0;
+    ca[j] = node_cell[d->jnode_a[j][0]];
+    PetscCheck(ca[j] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node in no fracturable cell", d->jgid[j]);
   }
-  // gather on rank 0
-  PetscMPIInt              mine[2] = {(PetscMPIInt)(CI * nc), (PetscMPIInt)(JI * nj)};
-  std::vector<PetscMPIInt> both(2 * size), cc(size), jc(size), co(size + 1, 0), jo(size + 1, 0);
-  PetscCallMPI(MPI_Gather(mine, 2, MPI_INT, both.data(), 2, MPI_INT, 0, d->comm));
-  for (int r = 0; r < size; ++r) {
-    cc[r]     = both[2 * r];
-    jc[r]     = both[2 * r + 1];
-    co[r + 1] = co[r] + cc[r];
-    jo[r + 1] = jo[r] + jc[r];
-  }
-  std::vector<PetscInt> C(d->rank == 0 ? co[size] : 0), J(d->rank == 0 ? jo[size] : 0);
-  PetscCallMPI(MPI_Gatherv(cells.data(), mine[0], MPIU_INT, C.data(), cc.data(), co.data(), MPIU_INT, 0, d->comm));
-  PetscCallMPI(MPI_Gatherv(joints.data(), mine[1], MPIU_INT, J.data(), jc.data(), jo.data(), MPIU_INT, 0, d->comm));
-  // rank 0: the two union-finds
-  std::vector<PetscInt> out;
-  std::vector<PetscInt> head(2, 0); // nbroken, nfragments, then the fragments'
-                                    // bodies, then the broken pairs
-  std::vector<std::array<PetscInt, 2>> pairs;
-  if (d->rank == 0) {
-    const PetscInt        ncell = (PetscInt)C.size() / CI, njoint = (PetscInt)J.size() / JI, nn = d->nnodes_global;
-    std::vector<PetscInt> node_cell(nn, -1), ord(ncell);
-    for (PetscInt c = 0; c < ncell; ++c)
-      for (int a = 0; a < 4; ++a) node_cell[C[CI * c + 2 + a]] = c; // a split node has one cell
-    UnionFind nodes(nn), comps(ncell);
-    // cells of one body sharing a node
-    std::unordered_map<long long, PetscInt> first;
-    for (PetscInt c = 0; c < ncell; ++c)
-      for (int a = 0; a < 4; ++a) {
-        const auto it = first.emplace((long long)C[CI * c + 2 + a] * nbodies + C[CI * c + 1], c);
-        if (!it.second) comps.Unite(it.first->second, c);
-      }
-    std::vector<unsigned char> freef(ncell, 0);
-    for (PetscInt c = 0; c < ncell; ++c)
-      if (t.fracturable[C[CI * c + 1]]) freef[c] = 0xF;
-    // the face of cell c made of the nodes tri: bit of the node of c not in tri
-    auto face_bit = [&](PetscInt c, const PetscInt *tri) {
-      for (int o = 0; o < 4; ++o) {
-        const PetscInt n = C[CI * c + 2 + o];
-        if (n != tri[0] && n != tri[1] && n != tri[2]) return (unsigned char)(1u << o);
-      }
-      return (unsigned char)0;
-    };
-    for (PetscInt j = 0; j < njoint; ++j) {
-      const PetscInt *a = &J[JI * j], *b = &J[JI * j + 3];
-      const PetscInt  ca = node_cell[a[0]], cb = node_cell[b[0]];
-      PetscCheck(ca >= 0 && cb >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node in no cell", j);
-      if (J[JI * j + 6]) {
-        pairs.push_back({std::min(C[CI * ca], C[CI * cb]), std::max(C[CI * ca], C[CI * cb])});
-        continue;
-      }
-      for (int i = 0; i < 3; ++i) nodes.Unite(a[i], b[i]);
-      comps.Unite(ca, cb);
-      freef[ca] &= (unsigned char)~face_bit(ca, a);
-      freef[cb] &= (unsigned char)~face_bit(cb, b);
+  // 1. Free faces and broken joints. Over the joint SF each joint's rank learns the places of
+  //    triangle b's nodes in tetrahedron b and that tetrahedron's id; back over it, the rank of
+  //    tetrahedron b learns, at the node that stands for the face (node (o + 1) % 4 for the face
+  //    opposite node o; one face per node), whether an intact joint glues it (kGlued) or a broken
+  //    one held by another rank faced tetrahedron a (that cell's id; a broken joint within the
+  //    rank is listed once, by its own rank), and which of its nodes are glued to another rank.
+  std::vector<unsigned char>           freef(nc, 0);
+  std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
+  std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
+  std::vector<PetscInt>                root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
+  for (PetscInt e = 0; e < nc; ++e)
+    if (frac(e)) freef[e] = 0xF;
+  if (d->jsf) {
+    for (PetscInt l = 0; l < nl; ++l) {
+      root[3 * l]     = node_slot[l];
+      root[3 * l + 1] = node_cell[l] >= 0 ? d->cell_gid[node_cell[l]] : -1;
+      root[3 * l + 2] = 0;
     }
-    std::sort(pairs.begin(), pairs.end());
-    // vertices on the free surface (by key)
-    std::vector<char> onfree(nn, 0);
-    for (PetscInt c = 0; c < ncell; ++c)
-      for (int o = 0; o < 4; ++o)
-        if (freef[c] >> o & 1)
-          for (int q = 0; q < 4; ++q)
-            if (q != o) onfree[nodes.Find(C[CI * c + 2 + q])] = 1;
-    for (PetscInt c = 0; c < ncell; ++c)
-      if (t.fracturable[C[CI * c + 1]])
+    PetscCall(PetscSFBcastBegin(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    for (PetscInt j = 0; j < nj; ++j) {
+      PetscInt *L      = &leaf[9 * (std::size_t)j];
+      const bool broken = JointBroken(d->jstate[j]), remote = d->jnode_b[j][0] < 0;
+      int        oa = 6, ob = 6, slot[3];
+      for (int i = 0; i < 3; ++i) {
+        oa -= (int)node_slot[d->jnode_a[j][i]];
+        ob -= slot[i] = (int)L[3 * i];
+        PetscCheck(slot[i] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node of triangle b in no fracturable cell", d->jgid[j]);
+      }
+      const PetscInt gb = L[1];
+      if (broken) pairs.push_back({std::min(d->cell_gid[ca[j]], gb), std::max(d->cell_gid[ca[j]], gb)});
+      else freef[ca[j]] &= (unsigned char)~(1u << oa);
+      if (!broken && remote) {
+        for (int i = 0; i < 3; ++i) nbnd.push_back(d->jnode_a[j][i]);
+        cbnd.push_back(ca[j]);
+        remote_j.push_back(j);
+      }
+      for (int i = 0; i < 3; ++i) {
+        L[3 * i]     = slot[i] == (ob + 1) % 4 && !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
+        L[3 * i + 1] = !broken && remote ? 1 : kNoFace;
+        L[3 * i + 2] = kNoFace;
+      }
+    }
+    std::fill(root.begin(), root.end(), kNoFace);
+    PetscCall(PetscSFReduceBegin(d->jsf, MPIU_INT, leaf.data(), root.data(), MPI_MAX));
+    PetscCall(PetscSFReduceEnd(d->jsf, MPIU_INT, leaf.data(), root.data(), MPI_MAX));
+    for (PetscInt e = 0; e < nc; ++e)
+      if (frac(e))
+        for (int o = 0; o < 4; ++o) {
+          const PetscInt v = root[3 * node(e, (o + 1) % 4)];
+          if (v == kGlued) freef[e] &= (unsigned char)~(1u << o);
+          else if (v >= 0) pairs.push_back({std::min(v, d->cell_gid[e]), std::max(v, d->cell_gid[e])});
+        }
+    for (PetscInt l = 0; l < nl; ++l)
+      if (root[3 * l + 1] == 1) remote_b.push_back(l), cbnd.push_back(node_cell[l]);
+    nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
+  }
+  std::sort(pairs.begin(), pairs.end());
+  // 2. This rank's classes: node keys (the nodes of free faces flagged) and fragments.
+  Classes nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
+  for (PetscInt e = 0; e < nc; ++e)
+    for (int o = 0; o < 4; ++o)
+      if (freef[e] >> o & 1)
         for (int q = 0; q < 4; ++q)
-          if (onfree[nodes.Find(C[CI * c + 2 + q])]) freef[c] |= 0x10;
-    // fragments numbered by body, then their smallest cell id (the same on any
-    // number of ranks)
-    std::vector<PetscInt> low(ncell, PETSC_MAX_INT);
-    for (PetscInt c = 0; c < ncell; ++c) low[comps.Find(c)] = std::min(low[comps.Find(c)], C[CI * c]);
-    std::vector<PetscInt> roots;
-    for (PetscInt c = 0; c < ncell; ++c)
-      if (comps.Find(c) == c) roots.push_back(c);
-    std::sort(roots.begin(), roots.end(), [&](PetscInt u, PetscInt v) { return C[CI * u + 1] != C[CI * v + 1] ? C[CI * u + 1] < C[CI * v + 1] : low[u] < low[v]; });
-    std::vector<PetscInt> id(ncell, -1);
-    for (std::size_t k = 0; k < roots.size(); ++k) id[roots[k]] = (PetscInt)k;
-    head[0] = (PetscInt)pairs.size();
-    head[1] = (PetscInt)roots.size();
-    for (PetscInt r : roots) head.push_back(C[CI * r + 1]);
-    out.resize(OI * (std::size_t)ncell);
-    for (PetscInt c = 0; c < ncell; ++c) {
-      out[OI * c]     = id[comps.Find(c)];
-      out[OI * c + 1] = freef[c];
-      for (int a = 0; a < 4; ++a) out[OI * c + 2 + a] = nodes.Find(C[CI * c + 2 + a]);
+          if (q != o) nodes.flag[node(e, q)] = 1;
+  {
+    std::unordered_map<long long, PetscInt> first; // cells of one body sharing a node (a split node has one cell)
+    for (PetscInt e = 0; e < nc; ++e)
+      if (!frac(e))
+        for (int a = 0; a < 4; ++a) {
+          const auto it = first.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
+          if (!it.second) cells.Unite(it.first->second, e);
+        }
+  }
+  for (PetscInt j = 0; j < nj; ++j)
+    if (d->jnode_b[j][0] >= 0 && !JointBroken(d->jstate[j])) {
+      for (int i = 0; i < 3; ++i) nodes.Unite(d->jnode_a[j][i], d->jnode_b[j][i]);
+      cells.Unite(ca[j], node_cell[d->jnode_b[j][0]]);
     }
+  // 3. Nodes that cells of a body (not fracturable: a split node is on one rank) share with
+  //    other ranks: one root per (node id, body) on the rank node id % size.
+  PetscSF               vsf = nullptr;
+  std::vector<PetscInt> vcell; // a cell of the body at the node, per leaf
+  if (d->size > 1 && std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end()) {
+    std::vector<char> shared;
+    PetscCall(SharedNodes(d, shared));
+    std::vector<std::array<PetscInt, 3>> k;
+    for (PetscInt e = 0; e < nc; ++e)
+      if (!frac(e))
+        for (int a = 0; a < 4; ++a)
+          if (shared[node(e, a)]) k.push_back({d->node_gid[node(e, a)], d->ed.body[e], e});
+    std::sort(k.begin(), k.end());
+    std::vector<std::array<PetscInt, 2>> keys;
+    for (std::size_t i = 0; i < k.size(); ++i)
+      if (i == 0 || k[i][0] != k[i - 1][0] || k[i][1] != k[i - 1][1]) keys.push_back({k[i][0], k[i][1]}), vcell.push_back(k[i][2]);
+    PetscCall(KeySF(d->comm, keys, &vsf));
+    cbnd.insert(cbnd.end(), vcell.begin(), vcell.end());
   }
-  // back to every rank: the counts, the fragments' bodies and the broken pairs
-  // to all, the cells to their ranks
-  PetscCallMPI(MPI_Bcast(head.data(), 2, MPIU_INT, 0, d->comm));
-  t.nbroken    = head[0];
-  t.nfragments = head[1];
-  head.resize(2 + (std::size_t)t.nfragments);
-  PetscCallMPI(MPI_Bcast(head.data() + 2, (PetscMPIInt)t.nfragments, MPIU_INT, 0, d->comm));
-  t.fragment_body.assign(head.begin() + 2, head.end());
-  t.broken_pairs.resize(t.nbroken);
-  PetscCallMPI(MPI_Bcast(t.nbroken ? (d->rank == 0 ? pairs.data() : t.broken_pairs.data()) : nullptr, (PetscMPIInt)(2 * t.nbroken), MPIU_INT, 0, d->comm));
-  if (d->rank == 0) t.broken_pairs = pairs;
-  for (int r = 0; r < size; ++r) {
-    cc[r]     = cc[r] / CI * OI;
-    co[r + 1] = co[r] + cc[r];
+  // 4. Rounds of label exchange with the other ranks, until no label changes anywhere. The
+  //    smallest label of a class crosses at least one rank boundary per round, so the rounds
+  //    are at most the pieces of classes at those boundaries (a bound, not the expectation).
+  PetscInt pieces = nodes.Count(nbnd) + cells.Count(cbnd), bound;
+  PetscCallMPI(MPIU_Allreduce(&pieces, &bound, 1, MPIU_INT, MPI_SUM, d->comm));
+  std::vector<PetscInt> aleaf(9 * (std::size_t)nj), broot(3 * (std::size_t)nl), vleaf(vcell.size()), vroot;
+  for (std::size_t k = 0; k < aleaf.size(); ++k) aleaf[k] = k % 3 == 2 ? 1 : kNone; // a broken joint sends nothing (MPI_MIN)
+  PetscInt              nvroot = 0, round = 0;
+  if (vsf) PetscCall(PetscSFGetGraph(vsf, &nvroot, nullptr, nullptr, nullptr));
+  vroot.resize(nvroot);
+  Received rn, rc;
+  for (PetscMPIInt changed = 1; changed;) {
+    ++round;
+    PetscCheck(round <= bound + 1, d->comm, PETSC_ERR_PLIB, "DeformableFractureTopology: the labels did not settle in %" PetscInt_FMT " rounds", bound + 1);
+    nodes.changed = cells.changed = false;
+    if (d->jsf_remote) { // triangle b's labels to the joint's rank, triangle a's back (their smallest)
+      for (PetscInt l : remote_b) {
+        root[3 * l]      = nodes.Label(l);
+        root[3 * l + 1]  = cells.Label(node_cell[l]);
+        root[3 * l + 2]  = nodes.flag[nodes.Find(l)];
+        broot[3 * l]     = kNone;
+        broot[3 * l + 1] = kNone;
+        broot[3 * l + 2] = 1;
+      }
+      for (PetscInt j : remote_j)
+        for (int i = 0; i < 3; ++i) {
+          aleaf[9 * j + 3 * i]     = nodes.Label(d->jnode_a[j][i]);
+          aleaf[9 * j + 3 * i + 1] = cells.Label(ca[j]);
+          aleaf[9 * j + 3 * i + 2] = !nodes.flag[nodes.Find(d->jnode_a[j][i])]; // the flag as 1 - flag, for MPI_MIN
+        }
+      PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+      PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
+      PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+      PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
+      for (PetscInt j : remote_j) {
+        for (int i = 0; i < 3; ++i) rn.Add(d->jnode_a[j][i], leaf[9 * j + 3 * i], (char)leaf[9 * j + 3 * i + 2]);
+        rc.Add(ca[j], leaf[9 * j + 1], 0);
+      }
+      for (PetscInt l : remote_b) {
+        rn.Add(l, broot[3 * l], (char)!broot[3 * l + 2]);
+        rc.Add(node_cell[l], broot[3 * l + 1], 0);
+      }
+    }
+    if (vsf) { // the smallest label of every shared (node, body) to the cells that share it
+      for (std::size_t i = 0; i < vcell.size(); ++i) vleaf[i] = cells.Label(vcell[i]);
+      std::fill(vroot.begin(), vroot.end(), kNone);
+      PetscCall(PetscSFReduceBegin(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
+      PetscCall(PetscSFReduceEnd(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
+      PetscCall(PetscSFBcastBegin(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
+      for (std::size_t i = 0; i < vcell.size(); ++i) rc.Add(vcell[i], vleaf[i], 0);
+    }
+    rn.Apply(nodes, nbnd);
+    rc.Apply(cells, cbnd);
+    changed = nodes.changed || cells.changed;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, d->comm));
   }
-  std::vector<PetscInt> back(OI * (std::size_t)nc);
-  PetscCallMPI(MPI_Scatterv(out.data(), cc.data(), co.data(), MPIU_INT, back.data(), (PetscMPIInt)(OI * nc), MPIU_INT, 0, d->comm));
-  t.cell_fragment.resize(nc);
+  PetscCall(PetscSFDestroy(&vsf));
+  PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " rounds of label exchange (bound %" PetscInt_FMT ")\n", round, bound + 1));
+  // 5. The answer per cell; the fragments numbered by body and smallest cell id, from the
+  //    (body, id) of every fragment, given by the rank of its smallest cell.
+  PetscInt n = 0;
+  for (const auto &st : d->jstate) n += JointBroken(st) ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(&n, &t.nbroken, 1, MPIU_INT, MPI_SUM, d->comm));
+  t.broken_pairs = std::move(pairs);
   t.cell_free.resize(nc);
   t.cell_key.resize(4 * (std::size_t)nc);
+  std::vector<PetscInt> mine;
   for (PetscInt e = 0; e < nc; ++e) {
-    t.cell_fragment[e] = back[OI * e];
-    t.cell_free[e]     = (unsigned char)back[OI * e + 1];
-    for (int a = 0; a < 4; ++a) t.cell_key[4 * e + a] = back[OI * e + 2 + a];
+    bool onfree = false;
+    for (int a = 0; a < 4; ++a) {
+      t.cell_key[4 * e + a] = nodes.Label(node(e, a));
+      onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
+    }
+    t.cell_free[e] = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0));
+    if (cells.Label(e) == d->cell_gid[e]) mine.push_back(d->ed.body[e]), mine.push_back(d->cell_gid[e]);
   }
+  std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);
+  const PetscMPIInt        nmine = (PetscMPIInt)mine.size();
+  PetscCallMPI(MPI_Allgather(&nmine, 1, MPI_INT, cnt.data(), 1, MPI_INT, d->comm));
+  for (int r = 0; r < d->size; ++r) off[r + 1] = off[r] + cnt[r];
+  std::vector<PetscInt> all(off[d->size]);
+  PetscCallMPI(MPI_Allgatherv(mine.data(), nmine, MPIU_INT, all.data(), cnt.data(), off.data(), MPIU_INT, d->comm));
+  std::vector<std::array<PetscInt, 2>> frags(all.size() / 2);
+  for (std::size_t f = 0; f < frags.size(); ++f) frags[f] = {all[2 * f], all[2 * f + 1]};
+  std::sort(frags.begin(), frags.end());
+  t.nfragments = (PetscInt)frags.size();
+  t.fragment_body.resize(frags.size());
+  for (std::size_t f = 0; f < frags.size(); ++f) t.fragment_body[f] = frags[f][0];
+  t.cell_fragment.resize(nc);
+  for (PetscInt e = 0; e < nc; ++e) t.cell_fragment[e] = (PetscInt)(std::lower_bound(frags.begin(), frags.end(), std::array<PetscInt, 2>{d->ed.body[e], cells.Label(e)}) - frags.begin());
   PetscFunctionReturn(0);
 }
-
 PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *count, FDEMFragment *fragments[]) {
   fdem::model::FractureTopology t;
   StateView                     sv;

@@ -37,9 +37,10 @@ struct FractureTopology {
   // 4 per local cell: the key of each node, the smallest split-mesh id among the copies of
   // its input node glued to it through intact joints (its own id outside fracturable bodies)
   std::vector<PetscInt>                cell_key;
-  std::vector<std::array<PetscInt, 2>> broken_pairs; // the two cell ids of every broken joint, smaller first, sorted (every rank)
+  std::vector<std::array<PetscInt, 2>> broken_pairs; // the two cell ids of every broken joint with a cell on this rank, smaller first, sorted
 };
-// Collective (gathers the cells and joints to rank 0 and scatters the result back).
+// Collective (each rank works on its own cells and joints, and exchanges labels with the
+// ranks it shares joints or nodes with until they settle; deformable_fragments.cpp).
 PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
 // The number of broken joints (all ranks); collective when the mesh has joints, 0 at once
 // (no communication) when it has none.

@@ -1,0 +1,204 @@
+// The fracture topology on any number of ranks (doc/fracture.md, "Broken joints",
+// "Fragments"): a box of 12 x 4 x 4 cubes of 0.1 m (6 tetrahedra each), its three lower
+// layers a fracturable body "rock", its top layer two bodies that are not fracturable, "plate"
+// (x < 0.6) and "lid" (x > 0.6), which share their nodes at x = 0.6 with each other. Chosen
+// joints of the rock are broken by hand: every joint of the plane x = 0.6 (a cut through the
+// rock), every joint around a closed pocket of 2 x 2 x 1 cubes (0.1 < x, y < 0.3,
+// 0.1 < z < 0.2), and the joints of the plane z = 0.2 where x > 0.7 and y < 0.2 (a crack that
+// does not run through: its faces stay glued at its tip). Asserted, on 1, 2 and 3 ranks:
+//  1. 5 fragments: the rock left of the cut without the pocket (68 cubes), the pocket (4),
+//     the rock right of the cut (72), the plate (24) and the lid (24), numbered by body and
+//     then by their smallest cell id; every cell's fragment is the one of its region, and
+//     FDEMDeformableGetFragments gives each fragment's body, cell count (exactly) and mass
+//     (rho times its volume, to 1e-12 relative);
+//  2. every cell's fragment, free faces, vertex flag and node keys, the number of broken
+//     joints and the broken pairs that touch the rank's cells are those of the same mesh held
+//     whole by one rank (PETSC_COMM_SELF), by cell and node id;
+//  3. on more than one rank, some fragment of the rock and some body that is not fracturable
+//     have cells on several ranks (so the labels had to cross ranks for 1 and 2 to hold).
+#include "common.hpp"
+#include "../../src/model/deformable_impl.hpp"
+#include "../../src/model/deformable_object.hpp"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <set>
+
+namespace {
+using fdem::kernels::Vec3;
+constexpr double rho_rock = 2000, rho_top = 7800;
+
+// 0: the rock left of the cut, around the pocket; 1: the pocket; 2: the rock right of the cut;
+// 3: the plate; 4: the lid.
+int Region(const Vec3 &c) {
+  if (c.z > 0.3) return c.x < 0.6 ? 3 : 4;
+  if (c.x > 0.1 && c.x < 0.3 && c.y > 0.1 && c.y < 0.3 && c.z > 0.1 && c.z < 0.2) return 1;
+  return c.x < 0.6 ? 0 : 2;
+}
+const int    kBody[5]  = {0, 0, 0, 1, 2};
+const int    kCubes[5] = {68, 4, 72, 24, 24};
+const double kRho[5]   = {rho_rock, rho_rock, rho_rock, rho_top, rho_top};
+
+PetscErrorCode Make(MPI_Comm comm, FDEMDeformable *out) {
+  FDEMDeformable d;
+  PetscFunctionBeginUser;
+  fdem::kernels::TetMesh M = fdem::kernels::MakeBoxMesh(Vec3(0, 0, 0), Vec3(1.2, 0.4, 0.4), 12, 4, 4);
+  M.body_names             = {"rock", "plate", "lid"};
+  M.body.resize(M.tets.size());
+  for (size_t e = 0; e < M.tets.size(); ++e) {
+    Vec3 c(0, 0, 0);
+    for (int a = 0; a < 4; ++a) c = c + 0.25 * M.nodes[M.tets[e][a]];
+    M.body[e] = c.z < 0.3 ? 0 : c.x < 0.6 ? 1 : 2;
+  }
+  PetscCall(FDEMDeformableCreate(comm, &d));
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.25, rho_rock, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableAddMaterial(d, "steel", 2e11, 0.3, rho_top, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e6, 3e6, 30, 50, 200, 1e10));
+  PetscCall(SetKernelMesh(d, M));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "rock", "rock"));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "plate", "steel"));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "lid", "steel"));
+  PetscCall(FDEMDeformableSetUp(d));
+  *out = d;
+  PetscFunctionReturn(0);
+}
+
+// Breaks, on the rank that holds it, every joint whose face separates two regions (points just
+// off its centroid on either side) and the joints of the crack z = 0.2, x > 0.7, y < 0.2.
+PetscErrorCode Break(FDEMDeformable d) {
+  Vec                X, Xl;
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscCall(DMGetLocalVector(d->dm, &Xl));
+  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
+  PetscCall(VecGetArrayRead(Xl, &x));
+  for (size_t j = 0; j < d->jnode_a.size(); ++j) {
+    Vec3 p[3];
+    for (int i = 0; i < 3; ++i) p[i] = Vec3(x[3 * d->jnode_a[j][i]], x[3 * d->jnode_a[j][i] + 1], x[3 * d->jnode_a[j][i] + 2]);
+    const Vec3   c = (1.0 / 3) * (p[0] + p[1] + p[2]), n = cross(p[1] - p[0], p[2] - p[0]);
+    const Vec3   off = (1e-3 / norm(n)) * n;
+    const bool   crack = std::fabs(c.z - 0.2) < 1e-9 && std::fabs(n.x) + std::fabs(n.y) < 1e-12 && c.x > 0.7 && c.y < 0.2;
+    if (Region(c + off) != Region(c - off) || crack)
+      for (auto &s : d->jstate[j]) s.D = 1, s.broken = true;
+  }
+  PetscCall(VecRestoreArrayRead(Xl, &x));
+  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
+  PetscFunctionReturn(0);
+}
+
+// The answer of one cell by node id: (node id, key, face opposite it free) for its 4 nodes,
+// sorted, then the fragment and the vertex flag.
+struct CellAnswer {
+  std::array<std::array<PetscInt, 3>, 4> nodes;
+  PetscInt                               fragment, onfree;
+  bool operator==(const CellAnswer &o) const { return nodes == o.nodes && fragment == o.fragment && onfree == o.onfree; }
+};
+
+PetscErrorCode Answers(FDEMDeformable d, const fdem::model::FractureTopology &t, std::map<PetscInt, CellAnswer> &out, std::vector<Vec3> *centroid) {
+  PetscInt nc, nl;
+  Vec      X, Xl;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nl, nullptr, nullptr, nullptr, nullptr));
+  std::vector<PetscInt> conn(4 * (size_t)nc), cgid(nc), ngid(nl);
+  PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nl, conn.data(), nullptr, cgid.data(), ngid.data()));
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscCall(DMGetLocalVector(d->dm, &Xl));
+  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
+  const PetscScalar *x;
+  PetscCall(VecGetArrayRead(Xl, &x));
+  if (centroid) centroid->assign(nc, Vec3(0, 0, 0));
+  for (PetscInt e = 0; e < nc; ++e) {
+    CellAnswer A;
+    for (int a = 0; a < 4; ++a) {
+      A.nodes[a] = {ngid[conn[4 * e + a]], t.cell_key[4 * e + a], (PetscInt)(t.cell_free[e] >> a & 1)};
+      if (centroid) (*centroid)[e] = (*centroid)[e] + 0.25 * Vec3(x[3 * conn[4 * e + a]], x[3 * conn[4 * e + a] + 1], x[3 * conn[4 * e + a] + 2]);
+    }
+    std::sort(A.nodes.begin(), A.nodes.end());
+    A.fragment   = t.cell_fragment[e];
+    A.onfree     = t.cell_free[e] >> 4 & 1;
+    out[cgid[e]] = A;
+  }
+  PetscCall(VecRestoreArrayRead(Xl, &x));
+  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+int main(int argc, char **argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscCall(FDEMInitializePackage());
+  PetscMPIInt size, rank;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  FDEMDeformable d, s;
+  PetscCall(Make(PETSC_COMM_WORLD, &d));
+  PetscCall(Make(PETSC_COMM_SELF, &s)); // the same mesh whole on every rank: the reference
+  PetscCall(Break(d));
+  PetscCall(Break(s));
+  fdem::model::FractureTopology t, ts;
+  PetscCall(fdem::model::DeformableFractureTopology(d, t));
+  PetscCall(fdem::model::DeformableFractureTopology(s, ts));
+  std::map<PetscInt, CellAnswer> mine, whole;
+  std::vector<Vec3>              centroid;
+  PetscCall(Answers(d, t, mine, &centroid));
+  PetscCall(Answers(s, ts, whole, nullptr));
+
+  // 1. the fragments the cut must give, numbered by body and smallest cell id
+  const PetscInt nc = (PetscInt)centroid.size();
+  PetscInt       low[5], glow[5];
+  std::fill(low, low + 5, PETSC_MAX_INT);
+  std::vector<int> region(nc);
+  for (PetscInt e = 0; e < nc; ++e) {
+    region[e]         = Region(centroid[e]);
+    low[region[e]]    = std::min(low[region[e]], d->cell_gid[e]);
+  }
+  PetscCallMPI(MPIU_Allreduce(low, glow, 5, MPIU_INT, MPI_MIN, PETSC_COMM_WORLD));
+  int order[5] = {0, 1, 2, 3, 4}, id[5];
+  std::sort(order, order + 5, [&](int a, int b) { return kBody[a] != kBody[b] ? kBody[a] < kBody[b] : glow[a] < glow[b]; });
+  for (int k = 0; k < 5; ++k) id[order[k]] = k;
+  CHECK(t.nfragments == 5, "%" PetscInt_FMT " fragments, expected 5", t.nfragments);
+  PetscInt wrong = 0, gwrong;
+  for (PetscInt e = 0; e < nc; ++e) wrong += t.cell_fragment[e] != id[region[e]];
+  PetscCallMPI(MPIU_Allreduce(&wrong, &gwrong, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  CHECK(gwrong == 0, "%" PetscInt_FMT " cells are not in the fragment of their region", gwrong);
+  PetscInt      nf;
+  FDEMFragment *f;
+  PetscCall(FDEMDeformableGetFragments(d, nullptr, &nf, &f));
+  if (nf == 5)
+    for (int r = 0; r < 5; ++r) {
+      const FDEMFragment &F = f[id[r]];
+      const double        m = kRho[r] * kCubes[r] * 1e-3;
+      CHECK(F.body == kBody[r] && F.cells == 6 * kCubes[r] && std::fabs(F.mass - m) <= 1e-12 * m, "fragment %d (region %d): body %" PetscInt_FMT ", %" PetscInt_FMT " cells, mass %.15g; expected body %d, %d cells, mass %.15g", id[r], r, F.body, F.cells, (double)F.mass, kBody[r], 6 * kCubes[r], m);
+    }
+  PetscCall(PetscFree(f));
+
+  // 2. the same answer as one rank holding the whole mesh
+  PetscInt differ = 0, gdiffer;
+  for (const auto &kv : mine) differ += !(kv.second == whole.at(kv.first));
+  std::vector<std::array<PetscInt, 2>> pairs;
+  for (const auto &p : ts.broken_pairs)
+    if (mine.count(p[0]) || mine.count(p[1])) pairs.push_back(p);
+  differ += pairs != t.broken_pairs;
+  differ += t.nbroken != ts.nbroken || t.nfragments != ts.nfragments || t.fragment_body != ts.fragment_body;
+  PetscCallMPI(MPIU_Allreduce(&differ, &gdiffer, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  CHECK(gdiffer == 0, "%" PetscInt_FMT " cells (or the counts, fragments' bodies or broken pairs of a rank) differ from one rank's answer", gdiffer);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " broken joints, %" PetscInt_FMT " fragments (bodies", t.nbroken, t.nfragments));
+  for (PetscInt b : t.fragment_body) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %" PetscInt_FMT, b));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, ") on %d rank(s)\n", size));
+
+  // 3. fragments across ranks
+  if (size > 1) {
+    PetscInt here[5] = {0, 0, 0, 0, 0}, ranks[5];
+    for (PetscInt e = 0; e < nc; ++e) here[region[e]] = 1;
+    PetscCallMPI(MPIU_Allreduce(here, ranks, 5, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ranks holding each region: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "\n", ranks[0], ranks[1], ranks[2], ranks[3], ranks[4]));
+    CHECK(std::max({ranks[0], ranks[1], ranks[2]}) > 1 && std::max(ranks[3], ranks[4]) > 1, "no fragment spans ranks: the test does not test the exchange");
+  }
+  PetscCall(FDEMDeformableDestroy(&s));
+  PetscCall(FDEMDeformableDestroy(&d));
+  PetscCall(ReportChecks());
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
