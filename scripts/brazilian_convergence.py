@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Mesh convergence of the Brazilian disc (doc/fracture_validation.md, "Mesh convergence").
-usage: brazilian_convergence.py FDEM NP RESOLUTIONS [DOCDIR]
+usage: brazilian_convergence.py [--reuse] FDEM NP RESOLUTIONS [DOCDIR]
 Runs tests/driver/brazilian_disc.yaml with the disc's `resolution` set to each of RESOLUTIONS
 (comma-separated, m) on NP ranks through tests/driver/brazilian.py, which checks each run and
 writes its figures (--summary); a check that fails on a mesh is reported in the table, not an
-error. Each run's output stays in out_brazilian_<resolution>/ (its scene.yaml is the copy it ran).
+error. Each run's output stays in out_brazilian_<resolution>/ (its scene.yaml is the copy it ran,
+check.log what brazilian.py printed); --reuse takes a run from there when it has its figures
+(summary.json), e.g. after running the meshes one at a time.
 Then prints the table of doc/fracture_validation.md (markdown) and, with DOCDIR, writes
 DOCDIR/brazilian_convergence.csv and DOCDIR/brazilian_convergence.png (the load against the
 platens' approach on every mesh)."""
@@ -19,8 +21,11 @@ except ImportError:  # a python3 without it (pyenv): the system's has it (script
 
 here = os.path.dirname(os.path.abspath(__file__))
 root = os.path.dirname(here)
-fdem, nproc, resolutions = sys.argv[1], sys.argv[2], sys.argv[3].split(",")
-docdir = sys.argv[4] if len(sys.argv) > 4 else None
+args = sys.argv[1:]
+reuse = args[:1] == ["--reuse"]
+args = args[1:] if reuse else args
+fdem, nproc, resolutions = args[0], args[1], args[2].split(",")
+docdir = args[3] if len(args) > 3 else None
 scene = open(os.path.join(root, "tests/driver/brazilian_disc.yaml")).read()
 R, T, V, GAP = 0.05, 0.02, 0.1, 5e-5  # the scene's (brazilian.py)
 disc = re.compile(r"(name: disc,.*resolution: )([0-9.e-]+)")
@@ -33,13 +38,16 @@ for res in resolutions:
     copy = os.path.join(out, "scene.yaml")
     open(copy, "w").write(disc.sub(lambda m: m.group(1) + res, scene))
     summary = os.path.join(out, "summary.json")
-    if os.path.exists(summary):
-        os.remove(summary)
-    cmd = [sys.executable, os.path.join(root, "tests/driver/brazilian.py"), "mpiexec", nproc, fdem, copy, "--out", out, "--summary", summary]
-    print("$ " + " ".join(cmd), flush=True)
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    log = r.stdout + r.stderr
-    open(os.path.join(out, "check.log"), "w").write(log)
+    if reuse and os.path.exists(summary):
+        log = open(os.path.join(out, "check.log")).read()
+    else:
+        if os.path.exists(summary):
+            os.remove(summary)
+        cmd = [sys.executable, os.path.join(root, "tests/driver/brazilian.py"), "mpiexec", nproc, fdem, copy, "--out", out, "--summary", summary]
+        print("$ " + " ".join(cmd), flush=True)
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        log = r.stdout + r.stderr
+        open(os.path.join(out, "check.log"), "w").write(log)
     fail = [line[6:] for line in log.splitlines() if line.startswith("FAIL: ")]
     print("\n".join(line for line in log.splitlines() if line.startswith(("peak load", "first broken", "kinetic /", "FAIL", "OK"))))
     if not os.path.exists(summary):
