@@ -5,7 +5,8 @@
 # out_uniaxial_prism/ (mesh.xmf: the per-cell damage, for ParaView; fracture.csv: the joints in the
 # order they broke).
 # With --convergence, runs instead the Brazilian disc's mesh convergence study on 2 ranks (the test's
-# mesh, a coarser one, 0.0125, and a finer one, 0.0072: about 10 minutes on an idle machine), prints its table and rewrites
+# mesh, a coarser one, 0.0125, and a finer one, 0.0072; not timed on an idle machine, and brazilian.py stops
+# a run after 1500 s), prints its table and rewrites
 # doc/fracture_validation/brazilian_convergence.{csv,png}; each run's output is in
 # out_brazilian_<resolution>/.
 # usage: bash scripts/fracture-validation.sh [--convergence] [BUILD_DIR]
