@@ -220,6 +220,25 @@ PetscErrorCode WriteFragments(Sim &s, const std::string &file) {
   PetscFunctionReturn(0);
 }
 
+// The joints that broke since the last call (FDEMDeformableGetJointBreaks), one row each in
+// fracture.csv (fp, rank 0): the time, the step in which it broke (the first step ending at
+// or after that time), the joint, its body and its centroid. Collective.
+PetscErrorCode WriteJointBreaks(Sim &s, FILE *fp, PetscReal dt) {
+  PetscInt        n;
+  FDEMJointBreak *e;
+  PetscFunctionBeginUser;
+  if (!s.dfm || s.njoints == 0) PetscFunctionReturn(0);
+  PetscCall(FDEMDeformableGetJointBreaks(s.dfm, &n, &e));
+  for (PetscInt i = 0; fp && i < n; ++i) {
+    const char *name;
+    PetscCall(FDEMDeformableGetBodyName(s.dfm, e[i].body, nullptr, &name));
+    std::fprintf(fp, "%.17g,%lld,%" PetscInt_FMT ",%s,%.17g,%.17g,%.17g\n", (double)e[i].t, (long long)std::ceil(e[i].t / dt - 1e-6), e[i].joint, name, (double)e[i].x[0], (double)e[i].x[1], (double)e[i].x[2]);
+  }
+  if (fp && n) std::fflush(fp);
+  PetscCall(PetscFree(e));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MakeDir(MPI_Comm comm, const std::string &dir) {
   PetscMPIInt rank;
   int         err = 0;
@@ -383,7 +402,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const bool        write = dir != "none";
   // a restarted run appends to balance.csv and writes its frames into DIR/restart_<step>
   const std::string fdir  = o.restart[0] ? dir + "/restart_" + std::to_string((long long)step) : dir;
-  FILE             *bal   = nullptr, *loads = nullptr;
+  FILE             *bal   = nullptr, *loads = nullptr, *breaks = nullptr;
   if (write) {
     PetscCall(MakeDir(comm, fdir));
     if (rank == 0) {
@@ -408,6 +427,14 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       for (const auto &p : platens) std::fprintf(loads, ",%s_Fx,%s_Fy,%s_Fz", p.second.c_str(), p.second.c_str(), p.second.c_str());
       std::fprintf(loads, "\n");
     }
+  }
+  // the joints' breaks, one row each as they happen, in fracture.csv
+  if (write && s.njoints > 0 && rank == 0) {
+    const std::string file = dir + "/fracture.csv";
+    const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
+    breaks                 = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
+    PetscCheck(breaks, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s/fracture.csv", dir.c_str());
+    if (head) std::fprintf(breaks, "time,step,joint,body,x,y,z\n");
   }
   // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
   const PetscInt fsteps = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 50);
@@ -449,6 +476,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
     PetscCall(WriteBalanceRow(bal, b));
+    if (write) PetscCall(WriteJointBreaks(s, breaks, dt));
     // an energy gain far above the integration error is an unstable step: stop, and say why
     scale = std::max(scale, b.kinetic + std::fabs(b.strain) + std::fabs(b.contact) + b.fracture + std::fabs(b.external_work) + std::fabs(b.gravity - first.gravity));
     const PetscReal gain = -(b.dissipated - first.dissipated); // above round-off in the totals, which hold gravity's arbitrary datum
@@ -499,6 +527,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   if (prog.on && prog.tty && rank == 0) std::fprintf(stdout, "\n");
   if (bal) std::fclose(bal);
   if (loads) std::fclose(loads);
+  if (breaks) std::fclose(breaks);
   if (write) PetscCall(WriteSceneXdmf(comm, fdir, frames, s.rb != nullptr, s.dfm != nullptr));
   if (write) PetscCall(WriteBodies(s, fdir + "/bodies.csv"));
   const double run = w1 - prog.wall0;

@@ -97,6 +97,19 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm, 
 /* After set-up: the number of joints, of joints broken at all three points, and the
    largest damage reached (collective). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
+/* The joints that broke (their third point broken: the joint is gone) since the previous
+   call, or since set-up: *count gets their number and *breaks (may be NULL) an array of them,
+   allocated with PetscMalloc1 (free it with PetscFree), the same on every rank, ordered by
+   time and then by joint id, which is the same on any number of ranks. A break is recorded
+   by the force evaluation in which it happens; joints broken in a loaded joint state
+   (LoadJointState) are not reported. Collective. */
+typedef struct {
+  PetscInt  joint; /* its id in the split's joint order (independent of the rank count) */
+  PetscInt  body;  /* the body of its tetrahedra (FDEMDeformableGetBodyName) */
+  PetscReal t;     /* the time of the force evaluation in which it broke */
+  PetscReal x[3];  /* the centroid of its two triangles' six nodes then */
+} FDEMJointBreak;
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointBreaks(FDEMDeformable dfm, PetscInt *count, FDEMJointBreak *breaks[]);
 /* The joints' energy (collective; each output may be NULL): `stored`, the recoverable
    energy of the joints at the state U (NULL: the stored positions), the free energy whose
    derivatives are the joint tractions; `dissipated`, the energy their damage has

@@ -190,7 +190,7 @@ struct BlockGeometry {
   }
 };
 
-// ---- the face rule of the compression (JointLaw::face_compression), one joint at a time
+// ---- the face rule of the compression (JointLaw::face_compression): its geometry and integral
 // The geometry of a joint element at its three points (the edge midpoints): the unit
 // normal of the mid-surface, each point's weight (a third of its area), opening, slip
 // vector and slip. false when the mid-surface has collapsed (it carries nothing).
@@ -268,72 +268,6 @@ double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *
   *face             = I > mid * (1 + 1e-9); // equal to round-off when the whole face is pressed in: the midpoints' forces are kept
   return L.ft * L.inv_dn_peak * (*face ? I : mid);
 }
-// A joint under the face rule of the compression (JointLaw::face_compression), one at a time:
-// the law at its three points, the compression the larger of the points' and the face's.
-double FaceJointForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
-  JointPoints P;
-  if (!P.Set(xa, xb)) return 0; // a collapsed mid-surface carries nothing
-  double        Dmax = 0, diss = 0;
-  JointTraction t3[3];
-  for (int q = 0; q < 3; ++q) {
-    JointTraction &t = t3[q];
-    if (state[q].D == 0 && P.dn[q] <= L.dn_peak && !state[q].broken) {
-      // the common case, an undamaged point below the tensile peak: the law of
-      // JointTractionAt without the damage update, with the law's reciprocals (the same
-      // tractions to round-off)
-      const double dn = P.dn[q], x = dn * L.inv_dn_peak;
-      const double sigma0 = dn <= 0 ? 2.0 * L.ft * x : L.ft * x * (2.0 - x);
-      const double fs     = dn <= 0 ? L.c - sigma0 * L.tan_phi : L.c; // > 0: compression only adds
-      const double sp     = fs * L.slip_per_strength;
-      if (P.s[q] <= sp) {
-        const double y = P.s[q] / sp;
-        t              = JointTraction();
-        t.sigma        = sigma0;
-        t.tau          = fs * y * (2.0 - y);
-      } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
-    } else t = JointTractionAt(L, P.dn[q], P.s[q], state[q]);
-    Dmax = std::max(Dmax, t.D);
-    diss += P.w * t.dissipated;
-  }
-  const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
-  double     dI[3];
-  bool       face_rule = false;
-  if (L.face_compression != 0 && !all_broken) Compression(L, P, dI, &face_rule);
-  for (int q = 0; q < 3; ++q) {
-    const int     i = q, j = (q + 1) % 3;
-    JointTraction t = t3[q];
-    if (all_broken) break; // the faces are contact surfaces now
-    if (!face_rule && state[q].broken) t.sigma = P.dn[q] < 0 ? NormalUndamaged(L, P.dn[q]) : 0.0, t.tau = 0; // keeps the compression at its midpoint
-    else if (state[q].broken) continue;
-    else if (face_rule && P.dn[q] <= 0) t.sigma = 0; // its compression is the face's, below
-    double tr[3]; // traction on A, towards B (it pulls the faces together when they open)
-    for (int k = 0; k < 3; ++k) tr[k] = t.sigma * P.n[k] + (P.s[q] > 0 ? t.tau * P.sv[q][k] / P.s[q] : 0.0);
-    for (int k = 0; k < 3; ++k) {
-      const double f = 0.5 * P.w * tr[k];
-      fa[i][k] += f, fa[j][k] += f;
-      fb[i][k] -= f, fb[j][k] -= f;
-    }
-  }
-  // The compression is the larger of two energies: the law's penalty f_t dn^2 / dn_peak at the
-  // three midpoints (each a third of the area), and its exact integral over the part of the face
-  // where B has passed through A (the opening linear between the vertices' own). Where the whole
-  // face is pressed in the two are equal (the midpoint rule is exact for a quadratic) and the
-  // midpoints' forces are kept; the midpoints alone would miss a corner pressed in while the rest
-  // of the face opens (a hinge at a crack's edge), whose overlap the contact engine would find and
-  // push apart when the joint breaks through. Both are functions of the positions, for intact and
-  // broken points alike (a broken point of a joint that still holds keeps the penalty, so that
-  // its faces cannot pass through each other), so nothing changes in the compression when a
-  // point breaks, and the forces are the gradient of the larger.
-  if (face_rule && !all_broken)
-    for (int v = 0; v < 3; ++v) {
-      const double f = L.ft * L.inv_dn_peak * dI[v]; // d(energy)/d(g_v): pushes B away from A along n
-      for (int k = 0; k < 3; ++k) fa[v][k] -= f * P.n[k], fb[v][k] += f * P.n[k];
-    }
-  if (dissipated) *dissipated += diss;
-  return Dmax;
-}
-
-
 double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0;
@@ -359,21 +293,6 @@ void JointBlockForces(JointBlock &B) {
   const int     nb = B.n;
   BlockGeometry G;
   G.Set(B);
-  // joints under the face rule of the compression: one at a time (FaceJointForces), their
-  // forces put in after the block's
-  bool   any_face = false, face[N];
-  double face_fa[N][9];
-  for (int b = 0; b < nb; ++b) {
-    face[b] = B.law[b]->face_compression != 0;
-    if (!face[b]) continue;
-    any_face = true;
-    double xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) xa[i][k] = B.xa[3 * i + k][b], xb[i][k] = B.xb[3 * i + k][b];
-    B.Dmax[b] = FaceJointForces(*B.law[b], xa, xb, B.state[b], fa, fb, B.dissipated[b]);
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) face_fa[b][3 * i + k] = fa[i][k];
-  }
   // the law's constants and the points' history, component-major
   alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], undamaged[3][N];
   for (int b = 0; b < nb; ++b) {
@@ -402,7 +321,6 @@ void JointBlockForces(JointBlock &B) {
     }
   // the other points, one at a time: damage, softening, broken points
   for (int b = 0; b < nb; ++b) {
-    if (face[b]) continue; // done above
     B.Dmax[b] = 0;
     if (G.ok[b] == 0) continue; // a collapsed mid-surface carries nothing and keeps its history
     if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) continue;
@@ -427,6 +345,33 @@ void JointBlockForces(JointBlock &B) {
     for (int q = 0; q < 3; ++q)
       if (state[q].broken) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
   }
+  // The face rule of the compression (JointLaw::face_compression), one joint at a time: the
+  // compression is the larger of the penalty's energy at the midpoints (the points' tractions
+  // above) and its exact integral over the part of the face pressed in, whose forces are then
+  // added below in place of the points' compression. Only a face pressed in at a vertex and open
+  // at another can have the integral larger: where no vertex is pressed in neither has
+  // compression, and where none is open the two are equal.
+  bool   any_face = false, face[N];
+  double dI[N][3];
+  for (int b = 0; b < nb; ++b) {
+    face[b] = false;
+    if (B.law[b]->face_compression == 0 || G.ok[b] == 0) continue;
+    double g[3]; // the overlap at the vertices, -(opening)
+    for (int v = 0; v < 3; ++v) {
+      g[v] = 0;
+      for (int k = 0; k < 3; ++k) g[v] -= (B.xb[3 * v + k][b] - B.xa[3 * v + k][b]) * G.n[k][b];
+    }
+    if (!((g[0] > 0 || g[1] > 0 || g[2] > 0) && (g[0] < 0 || g[1] < 0 || g[2] < 0))) continue;
+    double mid = 0;
+    for (int q = 0; q < 3; ++q)
+      if (G.dn[q][b] < 0) mid += G.w[b] * G.dn[q][b] * G.dn[q][b];
+    if (!(OverlapSquared(g, 3.0 * G.w[b], dI[b]) > mid * (1 + 1e-9))) continue;
+    face[b] = any_face = true;
+    for (int q = 0; q < 3; ++q) { // the points keep their tension and shear; the face has their compression
+      if (G.dn[q][b] <= 0) sigma[q][b] = 0;
+      if (B.state[b][q].broken) sigma[q][b] = tau[q][b] = 0;
+    }
+  }
   // the nodal forces, two joints an instruction: the traction on A (towards B; it pulls the
   // faces together when they open) at point q, times half its weight, on each node of its
   // edge (q, q+1); node i gets points i and i-1
@@ -448,10 +393,11 @@ void JointBlockForces(JointBlock &B) {
   for (int b = 0; b < nb; ++b)
     if (G.ok[b] == 0)
       for (int c = 0; c < 9; ++c) B.fa[c][b] = 0; // collapsed, or every point broken
-  if (any_face)
+  if (any_face) // d(compression)/d(g_v) pushes B away from A along n
     for (int b = 0; b < nb; ++b)
       if (face[b])
-        for (int c = 0; c < 9; ++c) B.fa[c][b] = face_fa[b][c];
+        for (int v = 0; v < 3; ++v)
+          for (int k = 0; k < 3; ++k) B.fa[3 * v + k][b] -= B.law[b]->ft * B.law[b]->inv_dn_peak * dI[b][v] * G.n[k][b];
 }
 
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {

@@ -71,7 +71,7 @@ PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscRe
     SETERRQ(d->comm, PETSC_ERR_NOT_CONVERGED, "FDEMDeformable: element %" PetscInt_FMT " of body '%s' inverted (det F = %g <= 0) at t = %g; reduce the time step or check the loading", gmin, d->body_names[b].c_str(),
             (double)ginfo[1], (double)t);
   }
-  PetscCall(AddJointForces(d, xl, fl));
+  PetscCall(AddJointForces(d, t, xl, fl));
   PetscCall(VecRestoreArray(d->floc, &fl));
   if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));

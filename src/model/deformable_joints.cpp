@@ -81,9 +81,9 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
   d->njoints_global = nj;
-  PetscBool face = PETSC_FALSE; // the compression over the face (doc/fracture.md, "One joint element")
+  PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
-  PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (false: at its three points only; doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
   PetscOptionsEnd();
   if (sizes[1] == 0) { // nothing was split: every node is its own input node
     d->owned_input  = d->owned_gid;
@@ -119,21 +119,24 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
   }
   if (nj == 0) PetscFunctionReturn(0);
-  // rank 0: each joint's record (8 ints, 12 reals) to the rank of its tetrahedron a
-  constexpr int          NI = 8, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
+  // rank 0: each joint's record (9 ints, 12 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 9, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
   static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
   std::vector<PetscMPIInt> cnt(size, 0), icnt(size), rcnt(size), ioff(size, 0), roff(size, 0);
   if (d->rank == 0) {
     std::vector<PetscMPIInt> node_rank(d->nnodes_global, -1), cell_rank(d->ncells_global, -1);
-    std::vector<PetscInt>    node_lidx(d->nnodes_global, -1);
+    std::vector<PetscInt>    node_lidx(d->nnodes_global, -1), cell_lidx(d->ncells_global, -1);
     for (int r = 0; r < size; ++r) {
       for (PetscMPIInt i = 0; i < nn[r]; ++i) {
         node_rank[allnodes[offn[r] + i]] = r;
         node_lidx[allnodes[offn[r] + i]] = i;
       }
-      for (PetscMPIInt i = 0; i < nc[r]; ++i) cell_rank[allcells[offc[r] + i]] = r;
+      for (PetscMPIInt i = 0; i < nc[r]; ++i) {
+        cell_rank[allcells[offc[r] + i]] = r;
+        cell_lidx[allcells[offc[r] + i]] = i;
+      }
     }
     std::vector<int> dest(nj);
     for (PetscInt j = 0; j < nj; ++j) cnt[dest[j] = cell_rank[d->joints_input[j].tet_a]]++;
@@ -161,6 +164,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
       }
       I[3] = node_rank[J.b[0]];
       I[7] = j;
+      I[8] = cell_lidx[J.tet_a]; // its local cell there (the joint's body)
       const double *L = reinterpret_cast<const double *>(&d->laws_input[j]);
       for (int k = 0; k < NR; ++k) R[k] = L[k];
     }
@@ -181,11 +185,15 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   d->jstate.assign(mycnt, {});
   d->jgid.resize(mycnt);
   d->jdiss.assign(mycnt, 0);
+  d->jbody.resize(mycnt);
+  d->jgone.assign(mycnt, 0);
+  d->jbreaks.clear();
   std::vector<PetscSFNode> remote(9 * (size_t)mycnt), remote_only;
   std::vector<PetscInt>    remote_leaf; // where remote_only's leaves are in jxb
   for (PetscMPIInt j = 0; j < mycnt; ++j) {
     const PetscInt *I = &imine[NI * (size_t)j];
     d->jgid[j]        = I[7];
+    d->jbody[j]       = d->ed.body[I[8]];
     for (int i = 0; i < 3; ++i) {
       d->jnode_a[j][i] = (int)I[i];
       d->jnode_b[j][i] = I[3] == d->rank ? (int)I[4 + i] : -1;
@@ -232,7 +240,7 @@ static inline void JointTriangles(FDEMDeformable d, const PetscScalar *xl, std::
     }
 }
 
-PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl) {
+PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   if (d->ts && d->ts != d->joint_checked) { // once per TS, at its first evaluation
@@ -270,6 +278,15 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, const P
     fdem::kernels::JointBlockForces(B);
     for (int b = 0; b < B.n; ++b) {
       const std::size_t j = j0 + b;
+      if (!d->jgone[j] && d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken) { // it broke now
+        FDEMJointBreak e;
+        e.joint = d->jgid[j];
+        e.body  = d->jbody[j];
+        e.t     = t;
+        for (int k = 0; k < 3; ++k) e.x[k] = (B.xa[k][b] + B.xa[3 + k][b] + B.xa[6 + k][b] + B.xb[k][b] + B.xb[3 + k][b] + B.xb[6 + k][b]) / 6;
+        d->jbreaks.push_back(e);
+        d->jgone[j] = 1;
+      }
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) {
           fl[3 * d->jnode_a[j][i] + k] += B.fa[3 * i + k][b];
@@ -388,10 +405,32 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       d->jstate[j][q].D      = v;
       d->jstate[j][q].broken = v >= 1;
     }
+    d->jgone[j] = d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken; // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
   PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetJointBreaks(FDEMDeformable d, PetscInt *count, FDEMJointBreak *breaks[]) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetJointBreaks"));
+  // every rank's records, as bytes (the same struct on every rank), to every rank
+  const PetscMPIInt        mine = (PetscMPIInt)(d->jbreaks.size() * sizeof(FDEMJointBreak));
+  std::vector<PetscMPIInt> bytes(d->size), off(d->size + 1, 0);
+  PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, bytes.data(), 1, MPI_INT, d->comm));
+  for (int r = 0; r < d->size; ++r) off[r + 1] = off[r] + bytes[r];
+  const PetscInt n = (PetscInt)(off[d->size] / sizeof(FDEMJointBreak));
+  std::vector<FDEMJointBreak> all(n);
+  PetscCallMPI(MPI_Allgatherv(d->jbreaks.data(), mine, MPI_BYTE, all.data(), bytes.data(), off.data(), MPI_BYTE, d->comm));
+  d->jbreaks.clear();
+  std::sort(all.begin(), all.end(), [](const FDEMJointBreak &a, const FDEMJointBreak &b) { return a.t < b.t || (a.t == b.t && a.joint < b.joint); });
+  *count = n;
+  if (breaks) {
+    PetscCall(PetscMalloc1(n, breaks));
+    std::copy(all.begin(), all.end(), *breaks);
+  }
   PetscFunctionReturn(0);
 }
 

@@ -93,6 +93,9 @@ struct _n_FDEMDeformable {
   std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
   std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
   std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J
+  std::vector<PetscInt>                   jbody;          // their bodies
+  std::vector<char>                       jgone;          // broken at all three points (and reported in jbreaks)
+  std::vector<FDEMJointBreak>             jbreaks;        // this rank's breaks since FDEMDeformableGetJointBreaks last took them
   PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
   std::vector<std::array<int, 3>>         jnode_b;        // local nodes of triangle b where it is on this rank, else -1
   PetscSF                                 jsf_remote = nullptr; // jsf's leaves of the joints whose triangle b is on another rank only
@@ -122,9 +125,9 @@ PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *
 // SF that brings triangle b's nodes to it.
 void SplitFracturable(FDEMDeformable d, const std::vector<int> &material_of_body);
 PetscErrorCode SetUpJoints(FDEMDeformable d);
-// Adds the joint forces at local positions xl into the local forces fl; at the first
-// evaluation of a TS, warns when its time step is near the joints' limit (collective).
-PetscErrorCode AddJointForces(FDEMDeformable d, const PetscScalar *xl, PetscScalar *fl);
+// Adds the joint forces at local positions xl into the local forces fl and records the
+// joints that break (time t, jbreaks); at the first evaluation of a TS, warns when its time step is near the joints' limit (collective).
+PetscErrorCode AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl);
 PetscErrorCode DestroyJoints(FDEMDeformable d);
 
 // Owned positions xo (and velocities vo, may be null) into the local vectors xloc

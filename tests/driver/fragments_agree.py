@@ -4,6 +4,9 @@ ranks and reads DIR/fragments.csv of each. Both must have at least MIN fragments
 whose masses sum to MASS (to 1e-12 relative), and the same fragments in the same
 order: the same body, masses within 1e-12 relative, centres of mass within TOL (m)
 and velocities within 1000 TOL (m/s). The driver's text must give the count.
+DIR/fracture.csv, the joints in the order they broke, must be the same on 1 and 2
+ranks: the same joints (each once) in the same order, at the same steps, their times
+within 1e-12 relative and their centroids within TOL (m).
 
   fragments_agree.py MPIEXEC FDEM SCENE MIN MASS TOL [driver options...]
 """
@@ -17,7 +20,7 @@ mpiexec, fdem, scene = sys.argv[1], sys.argv[2], sys.argv[3]
 nmin, mass, tol = int(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6])
 more = sys.argv[7:]
 root = tempfile.mkdtemp(prefix="fdem_fragments_")
-rows = {}
+rows, breaks = {}, {}
 for n in (1, 2):
     out = os.path.join(root, f"np{n}")
     cmd = [mpiexec, "--oversubscribe", "-n", str(n), fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + more
@@ -30,6 +33,11 @@ for n in (1, 2):
         rows[n] = list(csv.DictReader(f))
     if f"fragments: {len(rows[n])} " not in r.stdout:
         sys.exit(f"FAIL: the driver's text does not give the {len(rows[n])} fragments of fragments.csv ({n} rank(s))")
+    with open(os.path.join(out, "fracture.csv")) as f:
+        breaks[n] = list(csv.DictReader(f))
+    times = [float(x["time"]) for x in breaks[n]]
+    if not breaks[n] or times != sorted(times) or len({x["joint"] for x in breaks[n]}) != len(breaks[n]):
+        sys.exit(f"FAIL: fracture.csv ({n} rank(s)) is empty, not in time order or has a joint twice")
     total = sum(float(x["mass"]) for x in rows[n])
     print(f"{n} rank(s): {len(rows[n])} fragments, total mass {total!r}")
     if len(rows[n]) < nmin:
@@ -49,4 +57,12 @@ for ra, rb in zip(a, b):
 print(f"1 rank against 2: mass {worst[0]:.3e} relative, centre {worst[1]:.3e} m, velocity {worst[2]:.3e} m/s")
 if worst[0] > 1e-12 or worst[1] > tol or worst[2] > 1000 * tol:
     sys.exit("FAIL: 1 and 2 ranks give different fragments")
+a, b = breaks[1], breaks[2]
+if [(x["joint"], x["step"], x["body"]) for x in a] != [(x["joint"], x["step"], x["body"]) for x in b]:
+    sys.exit(f"FAIL: fracture.csv lists other joints or steps on 1 rank ({len(a)} rows) than on 2 ({len(b)})")
+dt = max(abs(float(x["time"]) - float(y["time"])) / float(x["time"]) for x, y in zip(a, b))
+dx = max(abs(float(x[k]) - float(y[k])) for x, y in zip(a, b) for k in ("x", "y", "z"))
+print(f"fracture.csv: {len(a)} joints broken, in the same order on 1 and 2 ranks; time {dt:.3e} relative, centroid {dx:.3e} m")
+if dt > 1e-12 or dx > tol:
+    sys.exit("FAIL: 1 and 2 ranks give different joint breaks")
 print("PASS")

@@ -45,7 +45,7 @@ struct JointLaw {
   // 1: a joint element's compression is the larger of the penalty's energy at its three points
   // and its exact integral over the pressed part of the face (JointElementForces); 0: the points'
   // alone. Not set by MakeJointLaw (0); the deformable model sets it from
-  // -fdem_joint_face_compression (doc/fracture.md, "One joint element").
+  // -fdem_joint_face_compression, 1 by default (doc/fracture.md, "One joint element").
   double face_compression = 0;
 };
 
