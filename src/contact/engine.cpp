@@ -171,7 +171,7 @@ PetscErrorCode Engine::CheckPenaltySet() const {
 
 PetscErrorCode Engine::SetFromOptions() {
   PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
-  PetscBool fp, fb, self = par_.self;
+  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBegin;
   PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
   PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
@@ -180,7 +180,9 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
   PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel); false: every face", "", so, &so, nullptr));
   PetscOptionsEnd();
+  surface_only_ = so;
   if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
   if (fb && buf < 0) SetAutomaticBuffer();
@@ -596,12 +598,15 @@ PetscErrorCode Engine::Evaluate() {
       }
       return frames_[i];
     };
+    const bool faces = surface_only_ && checked_initial_;
     PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
       if (!BoxesMeet(a, b)) continue;
       const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
-      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pc)) continue;
+      // the first evaluation checks each pair's overlap energy: every face then
+      const int pa = faces ? P(p[0]).push : 15, pb = faces ? P(p[1]).push : 15;
+      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc)) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
       if (!checked_initial_) {

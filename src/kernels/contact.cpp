@@ -86,10 +86,40 @@ struct PassResult {
   Vec3 moment{};       // int phi_t x dS over the polygons
 };
 
+// The fraction of the area of a triangle (the rows of lam: its vertices' barycentric
+// coordinates in t, snapped) that lies inside t: the triangle clipped by t's four face
+// planes, its area from the fan of the clipped polygon in the triangle's own coordinates.
+double AreaInside(const double *const lam[3]) {
+  bool allin = true;
+  for (int m = 0; m < 3 && allin; ++m) allin = lam[m][0] >= 0 && lam[m][1] >= 0 && lam[m][2] >= 0 && lam[m][3] >= 0;
+  if (allin) return 1;
+  PV bufA[12], bufB[12];
+  PV *poly = bufA, *other = bufB;
+  for (int m = 0; m < 3; ++m) {
+    for (int k = 0; k < 4; ++k) poly[m].n[k] = lam[m][k];
+    for (int j = 0; j < 3; ++j) poly[m].l[j] = j == m;
+  }
+  int np = 3;
+  for (int k = 0; k < 4 && np > 0; ++k) {
+    np = Clip(poly, np, other, k);
+    PV *tmp = poly; poly = other; other = tmp;
+  }
+  double D = 0;
+  const PV &p0 = poly[0];
+  for (int q = 1; q + 1 < np; ++q) {
+    const PV &p1 = poly[q], &p2 = poly[q + 1];
+    D += p0.l[0] * (p1.l[1] * p2.l[2] - p1.l[2] * p2.l[1]) - p0.l[1] * (p1.l[0] * p2.l[2] - p1.l[2] * p2.l[0]) +
+         p0.l[2] * (p1.l[0] * p2.l[1] - p1.l[1] * p2.l[0]);
+  }
+  return D;
+}
+
 // One direction: the faces of contactor c inside target t, pushed by t's
 // potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
 // lam_c[v][k]: lambda_k of t at contactor vertex v (Barycentric, before snapping).
-void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, std::array<Vec3, 4> &fc,
+// Only the faces in `faces` (bit f: the face opposite vertex f) are pushed; of the others
+// only the area fraction inside t is found (r.frac, for the energy's base-face terms).
+void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, int faces, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
   double lam[4][4];
   for (int v = 0; v < 4; ++v)
@@ -106,6 +136,11 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     bool out = false;
     for (int k = 0; k < 4 && !out; ++k) out = lam[fv[0]][k] < 0 && lam[fv[1]][k] < 0 && lam[fv[2]][k] < 0;
     if (out) continue;
+    if (!(faces >> f & 1)) {
+      const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
+      r.frac[f] = AreaInside(tri);
+      continue;
+    }
 
     Vec3 av = 0.5 * cross(c[fv[1]] - c[fv[0]], c[fv[2]] - c[fv[0]]); // area vector, made outward
     if (dot(c[f] - c[fv[0]], av) > 0) av = -av;
@@ -226,6 +261,11 @@ bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, doubl
 
 bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
                            double penalty_b, TetPairContact &out) {
+  return PotentialContactForce(a, fa, b, fb, penalty_a, penalty_b, 15, 15, out);
+}
+
+bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
+                           double penalty_b, int faces_a, int faces_b, TetPairContact &out) {
   CheckPenalty(penalty_a, "a");
   CheckPenalty(penalty_b, "b");
   for (auto &v : out.fa) v = Vec3{};
@@ -238,8 +278,8 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
     return false;
   }
   PassResult ab, ba;
-  Pass(a, fb, a_in_b, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
-  Pass(b, fa, b_in_a, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
+  Pass(a, fb, a_in_b, penalty_b, faces_a, out.fa, out.fb, ab); // a's faces inside b, b's potential
+  Pass(b, fa, b_in_a, penalty_a, faces_b, out.fb, out.fa, ba); // b's faces inside a, a's potential
   // Base-face terms of the divergence-theorem integrals (doc/contact.md):
   // sub-tetrahedron o of t contributes 1/4 h_o (eps/12) |face_o inside c|,
   // with h_o |face_o| = 3 |V_t| / 4.
@@ -251,7 +291,8 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
   out.weight = ab.weight + ba.weight;
   out.point = out.weight > 0 ? (1.0 / out.weight) * (ab.moment + ba.moment) : Vec3{};
   const double vmin = fa.vol < fb.vol ? fa.vol : fb.vol;
-  out.overlap = out.weight > 0 || volume > 1e-12 * vmin;
+  if ((faces_a & 15) == 15 && (faces_b & 15) == 15) out.overlap = out.weight > 0 || volume > 1e-12 * vmin;
+  else out.overlap = out.weight > 0 || fa_in_b > 0 || fb_in_a > 0; // the volume is not known: some face meets the other
   return out.overlap;
 }
 
