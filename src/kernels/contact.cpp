@@ -137,9 +137,16 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     for (int k = 0; k < 4 && !out; ++k) out = lam[fv[0]][k] < 0 && lam[fv[1]][k] < 0 && lam[fv[2]][k] < 0;
     if (out) continue;
     if (!(faces >> f & 1)) {
-      const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
-      r.frac[f] = AreaInside(tri);
-      continue;
+      // A face in a face plane of t is pushed all the same: the energy counts such a polygon
+      // once, from t's side (on_base below), so its terms in the two tetrahedra sharing it
+      // no longer cancel.
+      bool in_plane = false;
+      for (int k = 0; k < 4 && !in_plane; ++k) in_plane = lam[fv[0]][k] == 0 && lam[fv[1]][k] == 0 && lam[fv[2]][k] == 0;
+      if (!in_plane) {
+        const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
+        r.frac[f] = AreaInside(tri);
+        continue;
+      }
     }
 
     Vec3 av = 0.5 * cross(c[fv[1]] - c[fv[0]], c[fv[2]] - c[fv[0]]); // area vector, made outward

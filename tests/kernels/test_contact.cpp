@@ -657,8 +657,8 @@ TEST(ContactDampingFriction, RigidCoMotionAndLimits) {
 // A rigid skin as the rigid model makes one: the fan of tetrahedra from the centre to the 12
 // triangles of a cube whose corners are moved at random by up to a tenth of its half-side h
 // (vertex 0 the centre, so the face opposite vertex 0 is the one on the surface).
-static std::vector<Tet4> FanCube(std::mt19937_64 &rng, const Vec3 &centre, double h) {
-  std::uniform_real_distribution<double> u(-0.1 * h, 0.1 * h);
+static std::vector<Tet4> FanCube(std::mt19937_64 &rng, const Vec3 &centre, double h, double noise = 0.1) {
+  std::uniform_real_distribution<double> u(-noise * h, noise * h);
   Vec3 p[8];
   for (int i = 0; i < 8; ++i)
     p[i] = centre + Vec3{(i & 1 ? h : -h) + u(rng), (i & 2 ? h : -h) + u(rng), (i & 4 ? h : -h) + u(rng)};
@@ -719,6 +719,27 @@ TEST(PotentialContact, SurfaceFacesOnlyForRigidSkins) {
       worstM = std::max(worstM, norm(M[0][s] - M[1][s]) / mscale);
     }
     worstE = std::max(worstE, std::fabs(E[0] - E[1]) / std::fabs(E[0]));
+  }
+  { // a face of the lone tetrahedron in the plane x = y of two shared faces of an exact cube's fan
+    const std::vector<Tet4> A = FanCube(rng, Vec3{}, 1.0, 0.0);
+    const Tet4 t{Vec3{0.3, 0.3, -0.4}, Vec3{1.6, 1.6, 0.2}, Vec3{0.5, 0.5, 0.7}, Vec3{1.5, 0.6, 0.1}};
+    double E[2] = {0, 0};
+    Vec3 F[2];
+    for (int mode = 0; mode < 2; ++mode)
+      for (const Tet4 &a : A) {
+        TetFrame fa, fb;
+        MakeTetFrame(a, "a", fa);
+        MakeTetFrame(t, "b", fb);
+        TetPairContact c;
+        if (!PotentialContactForce(a, fa, t, fb, 2.0, 3.0, mode ? 1 : 15, 15, c)) continue;
+        E[mode] += c.energy;
+        for (int k = 0; k < 4; ++k) F[mode] += c.fa[k];
+      }
+    std::printf("  a face in the plane of two shared faces: energy %.17g (all faces) %.17g (surface faces), |dF| %.2e\n", E[0], E[1],
+                norm(F[0] - F[1]));
+    EXPECT_GT(E[0], 0);
+    EXPECT_NEAR(E[0], E[1], 1e-13 * E[0]);
+    EXPECT_LT(norm(F[0] - F[1]), 1e-13 * norm(F[0]));
   }
   std::printf("  %d touching configurations; surface faces only against all faces: force %.2e, torque %.2e "
               "(relative to sum |f|, sum |x||f|), energy %.2e (relative)\n", touching, worstF, worstM, worstE);
