@@ -129,7 +129,7 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
 
   const double s = 0.25 * eps; // phi = s * N_centroid on every sub-tetrahedron
-  PV bufA[48], bufB[48];
+  PV bufA[48], bufB[48], bufC[16];
   for (int f = 0; f < 4; ++f) {
     const int *fv = kFace[f];
     // Skip a face with all three nodes strictly outside one face plane of t.
@@ -153,35 +153,56 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     if (dot(c[f] - c[fv[0]], av) > 0) av = -av;
     const double dA = dot(c[fv[0]] - tf.centroid, av); // (distance of face plane from t's centroid) * area
 
+    // The face clipped to t once (its vertices carry t's four barycentric coordinates), then
+    // split among t's sub-tetrahedra, each the part of t where lambda_o is the least.
+    PV *face = bufC;
+    for (int m = 0; m < 3; ++m) {
+      for (int k = 0; k < 4; ++k) face[m].n[k] = lam[fv[m]][k];
+      for (int j = 0; j < 3; ++j) face[m].l[j] = j == m;
+    }
+    int nf = 3;
+    bool inside = true;
+    for (int m = 0; m < 3 && inside; ++m) inside = face[m].n[0] >= 0 && face[m].n[1] >= 0 && face[m].n[2] >= 0 && face[m].n[3] >= 0;
+    if (!inside) {
+      PV *other = bufA;
+      for (int k = 0; k < 4 && nf > 0; ++k) {
+        nf = Clip(face, nf, other, k);
+        PV *tmp = face; face = other; other = tmp;
+      }
+      if (nf < 3) continue;
+      if (face != bufC)
+        for (int i = 0; i < nf; ++i) bufC[i] = face[i];
+      face = bufC;
+    }
     double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
     for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
       const int *tv = kFace[o];
       PV *poly = bufA;
-      for (int m = 0; m < 3; ++m) {
-        const double *lv = lam[fv[m]];
+      bool skip[3] = {true, true, true}, allin = true;
+      for (int i = 0; i < nf; ++i) {
+        const double *lv = face[i].n;
         const double lo = lv[o];
-        poly[m].n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
-        poly[m].n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
-        poly[m].n[2] = lv[tv[2]] - lo;
-        poly[m].n[3] = 4.0 * lo;
-        poly[m].l[0] = m == 0;
-        poly[m].l[1] = m == 1;
-        poly[m].l[2] = m == 2;
+        PV &q = poly[i];
+        q.n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
+        q.n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
+        q.n[2] = lv[tv[2]] - lo;
+        q.n[3] = 4.0 * lo;
+        q.l[0] = face[i].l[0];
+        q.l[1] = face[i].l[1];
+        q.l[2] = face[i].l[2];
+        for (int k = 0; k < 3; ++k) {
+          skip[k] = skip[k] && q.n[k] < 0;
+          allin = allin && q.n[k] >= 0;
+        }
       }
-      bool skip = false, allin = true;
-      for (int k = 0; k < 4; ++k) {
-        const double a0 = poly[0].n[k], a1 = poly[1].n[k], a2 = poly[2].n[k];
-        if (a0 < 0 && a1 < 0 && a2 < 0) { skip = true; break; }
-        if (a0 < 0 || a1 < 0 || a2 < 0) allin = false;
-      }
-      if (skip) continue;
+      if (skip[0] || skip[1] || skip[2]) continue;
       // Polygon in the base plane of t with the same outward normal: its
       // energy/volume share is counted once, from t's side (doc/contact.md).
-      const bool on_base = poly[0].n[3] == 0 && poly[1].n[3] == 0 && poly[2].n[3] == 0 && dA > 0;
-      int np = 3;
+      const bool on_base = lam[fv[0]][o] == 0 && lam[fv[1]][o] == 0 && lam[fv[2]][o] == 0 && dA > 0;
+      int np = nf;
       if (!allin) {
         PV *other = bufB;
-        for (int k = 0; k < 4 && np > 0; ++k) {
+        for (int k = 0; k < 3 && np > 0; ++k) {
           np = Clip(poly, np, other, k);
           PV *tmp = poly; poly = other; other = tmp;
         }
