@@ -222,8 +222,9 @@ public:
   PetscErrorCode SetBuffer(PetscReal buffer); // >= 0
   void           SetAutomaticBuffer();        // the default (Adapter::BufferProposal)
   PetscErrorCode SetSelfContact(PetscBool self);
-  // Push only the faces in Primitive::push (default) or every face of every tetrahedron (the
-  // forces are the same to round-off; the damping and friction of a pair are not).
+  // Push only the faces in Primitive::push (a rigid skin's surface faces) or every face of every
+  // tetrahedron (default). The bodies' forces, torques and the energy are the same to round-off;
+  // a pair's damping and friction are not: they then see only the surface faces (doc/performance.md).
   void           SetSurfaceOnly(bool on) { surface_only_ = on; }
   PetscErrorCode SetFromOptions();
   PetscErrorCode CheckPenaltySet() const;
@@ -296,7 +297,7 @@ private:
   std::vector<int>              holders_;           // own spheres of st_ (their slots are swept at every evaluation)
   bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
-  bool                          surface_only_ = true;
+  bool                          surface_only_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };
