@@ -77,6 +77,13 @@ inline int Clip(const PV *in, int nin, PV *out, int k) {
   return nout;
 }
 
+// Does the plane n[k] = 0 cut off any of the polygon? (If not, Clip would copy it unchanged.)
+inline bool Cuts(const PV *in, int nin, int k) {
+  for (int i = 0; i < nin; ++i)
+    if (in[i].n[k] < 0) return true;
+  return false;
+}
+
 struct PassResult {
   double energy = 0;   // polygon part of int phi_t dV over c cap t
   double volume3 = 0;  // polygon part of 3 * volume(c cap t)
@@ -101,6 +108,7 @@ double AreaInside(const double *const lam[3]) {
   }
   int np = 3;
   for (int k = 0; k < 4 && np > 0; ++k) {
+    if (!Cuts(poly, np, k)) continue;
     np = Clip(poly, np, other, k);
     PV *tmp = poly; poly = other; other = tmp;
   }
@@ -166,6 +174,7 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     if (!inside) {
       PV *other = bufA;
       for (int k = 0; k < 4 && nf > 0; ++k) {
+        if (!Cuts(face, nf, k)) continue;
         nf = Clip(face, nf, other, k);
         PV *tmp = face; face = other; other = tmp;
       }
@@ -203,6 +212,7 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
       if (!allin) {
         PV *other = bufB;
         for (int k = 0; k < 3 && np > 0; ++k) {
+          if (!Cuts(poly, np, k)) continue;
           np = Clip(poly, np, other, k);
           PV *tmp = poly; poly = other; other = tmp;
         }
