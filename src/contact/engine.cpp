@@ -75,16 +75,17 @@ bool BeyondAFace(const double pa[16], const Tet4 &b, double gap) {
   return false;
 }
 
-// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
-bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
+// The current box of a tetrahedron: lo(3), hi(3).
+void CurrentBox(const Tet4 &a, std::array<double, 6> &b) {
   for (int k = 0; k < 3; ++k) {
-    const double alo = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
-    const double ahi = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
-    const double blo = std::min(std::min(b[0][k], b[1][k]), std::min(b[2][k], b[3][k]));
-    const double bhi = std::max(std::max(b[0][k], b[1][k]), std::max(b[2][k], b[3][k]));
-    if (alo > bhi || blo > ahi) return false;
+    b[k]     = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
+    b[3 + k] = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
   }
-  return true;
+}
+
+// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
+bool BoxesMeet(const std::array<double, 6> &a, const std::array<double, 6> &b) {
+  return !(a[0] > b[3] || b[0] > a[3] || a[1] > b[4] || b[1] > a[4] || a[2] > b[5] || b[2] > a[5]);
 }
 
 bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
@@ -600,9 +601,19 @@ PetscErrorCode Engine::Evaluate() {
     };
     const bool faces = surface_only_ && checked_initial_;
     PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
+    // each tetrahedron's current box once per evaluation (a tetrahedron is in many pairs)
+    std::vector<std::array<double, 6>> cboxes(nl_ + ng_);
+    std::vector<char>                  cmade(nl_ + ng_, 0);
+    auto cbox = [&](int i) -> const std::array<double, 6> & {
+      if (!cmade[i]) {
+        CurrentBox(X(i), cboxes[i]);
+        cmade[i] = 1;
+      }
+      return cboxes[i];
+    };
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!BoxesMeet(a, b)) continue;
+      if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
       const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
       // the first evaluation checks each pair's overlap energy: every face then
       const int pa = faces ? P(p[0]).push : 15, pb = faces ? P(p[1]).push : 15;
