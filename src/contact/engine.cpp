@@ -587,7 +587,7 @@ PetscErrorCode Engine::Evaluate() {
   std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
   const PetscReal       pen = par_.penalty;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
-    fdem::kernels::TetPairContact pc;
+    fdem::kernels::TetPairContact pc, full;
     std::array<Vec3, 4>           fa, fb, da, db;
     // each tetrahedron's frame once per evaluation, made when a pair first needs it
     frames_.resize(nl_ + ng_);
@@ -599,7 +599,6 @@ PetscErrorCode Engine::Evaluate() {
       }
       return frames_[i];
     };
-    const bool faces = surface_only_ && checked_initial_;
     PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
     // each tetrahedron's current box once per evaluation (a tetrahedron is in many pairs)
     std::vector<std::array<double, 6>> cboxes(nl_ + ng_);
@@ -615,16 +614,20 @@ PetscErrorCode Engine::Evaluate() {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
       if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
       const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
-      // the first evaluation checks each pair's overlap energy: every face then
-      const int pa = faces ? P(p[0]).push : 15, pb = faces ? P(p[1]).push : 15;
-      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc)) continue;
-      sums[0] += pc.energy;
-      sums[1] += 1;
+      const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
+      const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
       if (!checked_initial_) {
-        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid potential
-        const double ratio = pc.energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8);
+        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
+        // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)
+        const fdem::kernels::TetPairContact *chk  = &pc;
+        bool                                 chit = hit;
+        if ((pa & pb & 15) != 15) chit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, full), chk = &full;
+        const double ratio = chit ? chk->energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8) : 0;
         if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
       }
+      if (!hit) continue;
+      sums[0] += pc.energy;
+      sums[1] += 1;
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
