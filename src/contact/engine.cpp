@@ -75,16 +75,17 @@ bool BeyondAFace(const double pa[16], const Tet4 &b, double gap) {
   return false;
 }
 
-// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
-bool BoxesMeet(const Tet4 &a, const Tet4 &b) {
+// The current box of a tetrahedron: lo(3), hi(3).
+void CurrentBox(const Tet4 &a, std::array<double, 6> &b) {
   for (int k = 0; k < 3; ++k) {
-    const double alo = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
-    const double ahi = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
-    const double blo = std::min(std::min(b[0][k], b[1][k]), std::min(b[2][k], b[3][k]));
-    const double bhi = std::max(std::max(b[0][k], b[1][k]), std::max(b[2][k], b[3][k]));
-    if (alo > bhi || blo > ahi) return false;
+    b[k]     = std::min(std::min(a[0][k], a[1][k]), std::min(a[2][k], a[3][k]));
+    b[3 + k] = std::max(std::max(a[0][k], a[1][k]), std::max(a[2][k], a[3][k]));
   }
-  return true;
+}
+
+// Do the current boxes of two tetrahedra meet? (If not, they do not overlap: no contact force.)
+bool BoxesMeet(const std::array<double, 6> &a, const std::array<double, 6> &b) {
+  return !(a[0] > b[3] || b[0] > a[3] || a[1] > b[4] || b[1] > a[4] || a[2] > b[5] || b[2] > a[5]);
 }
 
 bool Before(const Primitive &a, const Primitive &b) { return a.kind != b.kind ? a.kind < b.kind : a.key < b.key; }
@@ -177,7 +178,7 @@ PetscErrorCode Engine::CheckPenaltySet() const {
 
 PetscErrorCode Engine::SetFromOptions() {
   PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
-  PetscBool fp, fb, self = par_.self;
+  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBegin;
   PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
   PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
@@ -186,7 +187,9 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
   PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel; a pair's damping and friction then see the surface faces only)", "", so, &so, nullptr));
   PetscOptionsEnd();
+  surface_only_ = so;
   if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
   if (fb && buf < 0) SetAutomaticBuffer();
@@ -590,7 +593,7 @@ PetscErrorCode Engine::Evaluate() {
   std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
   const PetscReal       pen = par_.penalty;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
-    fdem::kernels::TetPairContact pc;
+    fdem::kernels::TetPairContact pc, full;
     std::array<Vec3, 4>           fa, fb, da, db;
     // each tetrahedron's frame once per evaluation, made when a pair first needs it
     frames_.resize(nl_ + ng_);
@@ -603,18 +606,34 @@ PetscErrorCode Engine::Evaluate() {
       return frames_[i];
     };
     PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
+    // each tetrahedron's current box once per evaluation (a tetrahedron is in many pairs)
+    std::vector<std::array<double, 6>> cboxes(nl_ + ng_);
+    std::vector<char>                  cmade(nl_ + ng_, 0);
+    auto cbox = [&](int i) -> const std::array<double, 6> & {
+      if (!cmade[i]) {
+        CurrentBox(X(i), cboxes[i]);
+        cmade[i] = 1;
+      }
+      return cboxes[i];
+    };
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!BoxesMeet(a, b)) continue;
+      if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
       const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
-      if (!fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pc)) continue;
-      sums[0] += pc.energy;
-      sums[1] += 1;
+      const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
+      const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
       if (!checked_initial_) {
-        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid potential
-        const double ratio = pc.energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8);
+        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
+        // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)
+        const fdem::kernels::TetPairContact *chk  = &pc;
+        bool                                 chit = hit;
+        if ((pa & pb & 15) != 15) chit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, full), chk = &full;
+        const double ratio = chit ? chk->energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8) : 0;
         if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
       }
+      if (!hit) continue;
+      sums[0] += pc.energy;
+      sums[1] += 1;
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {

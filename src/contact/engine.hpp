@@ -39,6 +39,8 @@ struct Primitive {
   double       margin  = 0; // set at each search: how far it may move before the next (>= buffer/2)
   std::int32_t shape   = kTetrahedron;
   std::int32_t surface = 15; // tetrahedron: bit o set when its face opposite vertex o lies on the body's surface
+  std::int32_t push    = 15; // tetrahedron: bit o set when its face opposite vertex o must be pushed by another's
+                             // potential (a rigid skin: its surface faces; the shared ones cancel, doc/contact.md)
   std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none
   double       radius  = 0;  // sphere: its radius
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
@@ -220,6 +222,10 @@ public:
   PetscErrorCode SetBuffer(PetscReal buffer); // >= 0
   void           SetAutomaticBuffer();        // the default (Adapter::BufferProposal)
   PetscErrorCode SetSelfContact(PetscBool self);
+  // Push only the faces in Primitive::push (a rigid skin's surface faces) or every face of every
+  // tetrahedron (default). The bodies' forces, torques and the energy are the same to round-off;
+  // a pair's damping and friction are not: they then see only the surface faces (doc/performance.md).
+  void           SetSurfaceOnly(bool on) { surface_only_ = on; }
   PetscErrorCode SetFromOptions();
   PetscErrorCode CheckPenaltySet() const;
   const Params  &GetParams() const { return par_; }
@@ -291,6 +297,7 @@ private:
   std::vector<int>              holders_;           // own spheres of st_ (their slots are swept at every evaluation)
   bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
+  bool                          surface_only_ = false;
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };

@@ -101,6 +101,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       p.mat     = (std::int32_t)mat;
       p.mass    = p.fixed ? 0 : f.mass[b];
       p.surface = surface_[f.skin[b]][t];
+      p.push    = p.surface; // the faces shared by two skin tetrahedra cancel in the body's force and torque
       for (int k = 0; k < 4; ++k) p.node[k] = sk.tets[t][k]; // the skin's node numbers (a sphere's surface contacts)
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());

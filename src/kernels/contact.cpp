@@ -77,6 +77,13 @@ inline int Clip(const PV *in, int nin, PV *out, int k) {
   return nout;
 }
 
+// Does the plane n[k] = 0 cut off any of the polygon? (If not, Clip would copy it unchanged.)
+inline bool Cuts(const PV *in, int nin, int k) {
+  for (int i = 0; i < nin; ++i)
+    if (in[i].n[k] < 0) return true;
+  return false;
+}
+
 struct PassResult {
   double energy = 0;   // polygon part of int phi_t dV over c cap t
   double volume3 = 0;  // polygon part of 3 * volume(c cap t)
@@ -86,10 +93,41 @@ struct PassResult {
   Vec3 moment{};       // int phi_t x dS over the polygons
 };
 
+// The fraction of the area of a triangle (the rows of lam: its vertices' barycentric
+// coordinates in t, snapped) that lies inside t: the triangle clipped by t's four face
+// planes, its area from the fan of the clipped polygon in the triangle's own coordinates.
+double AreaInside(const double *const lam[3]) {
+  bool allin = true;
+  for (int m = 0; m < 3 && allin; ++m) allin = lam[m][0] >= 0 && lam[m][1] >= 0 && lam[m][2] >= 0 && lam[m][3] >= 0;
+  if (allin) return 1;
+  PV bufA[12], bufB[12];
+  PV *poly = bufA, *other = bufB;
+  for (int m = 0; m < 3; ++m) {
+    for (int k = 0; k < 4; ++k) poly[m].n[k] = lam[m][k];
+    for (int j = 0; j < 3; ++j) poly[m].l[j] = j == m;
+  }
+  int np = 3;
+  for (int k = 0; k < 4 && np > 0; ++k) {
+    if (!Cuts(poly, np, k)) continue;
+    np = Clip(poly, np, other, k);
+    PV *tmp = poly; poly = other; other = tmp;
+  }
+  double D = 0;
+  const PV &p0 = poly[0];
+  for (int q = 1; q + 1 < np; ++q) {
+    const PV &p1 = poly[q], &p2 = poly[q + 1];
+    D += p0.l[0] * (p1.l[1] * p2.l[2] - p1.l[2] * p2.l[1]) - p0.l[1] * (p1.l[0] * p2.l[2] - p1.l[2] * p2.l[0]) +
+         p0.l[2] * (p1.l[0] * p2.l[1] - p1.l[1] * p2.l[0]);
+  }
+  return D;
+}
+
 // One direction: the faces of contactor c inside target t, pushed by t's
 // potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
 // lam_c[v][k]: lambda_k of t at contactor vertex v (Barycentric, before snapping).
-void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, std::array<Vec3, 4> &fc,
+// Only the faces in `faces` (bit f: the face opposite vertex f) are pushed; of the others
+// only the area fraction inside t is found (r.frac, for the energy's base-face terms).
+void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, int faces, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
   double lam[4][4];
   for (int v = 0; v < 4; ++v)
@@ -99,47 +137,82 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
 
   const double s = 0.25 * eps; // phi = s * N_centroid on every sub-tetrahedron
-  PV bufA[48], bufB[48];
+  PV bufA[48], bufB[48], bufC[16];
   for (int f = 0; f < 4; ++f) {
     const int *fv = kFace[f];
     // Skip a face with all three nodes strictly outside one face plane of t.
     bool out = false;
     for (int k = 0; k < 4 && !out; ++k) out = lam[fv[0]][k] < 0 && lam[fv[1]][k] < 0 && lam[fv[2]][k] < 0;
     if (out) continue;
+    if (!(faces >> f & 1)) {
+      // A face in a face plane of t is pushed all the same: the energy counts such a polygon
+      // once, from t's side (on_base below), so its terms in the two tetrahedra sharing it
+      // no longer cancel.
+      bool in_plane = false;
+      for (int k = 0; k < 4 && !in_plane; ++k) in_plane = lam[fv[0]][k] == 0 && lam[fv[1]][k] == 0 && lam[fv[2]][k] == 0;
+      if (!in_plane) {
+        const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
+        r.frac[f] = AreaInside(tri);
+        continue;
+      }
+    }
 
     Vec3 av = 0.5 * cross(c[fv[1]] - c[fv[0]], c[fv[2]] - c[fv[0]]); // area vector, made outward
     if (dot(c[f] - c[fv[0]], av) > 0) av = -av;
     const double dA = dot(c[fv[0]] - tf.centroid, av); // (distance of face plane from t's centroid) * area
 
+    // The face clipped to t once (its vertices carry t's four barycentric coordinates), then
+    // split among t's sub-tetrahedra, each the part of t where lambda_o is the least.
+    PV *face = bufC;
+    for (int m = 0; m < 3; ++m) {
+      for (int k = 0; k < 4; ++k) face[m].n[k] = lam[fv[m]][k];
+      for (int j = 0; j < 3; ++j) face[m].l[j] = j == m;
+    }
+    int nf = 3;
+    bool inside = true;
+    for (int m = 0; m < 3 && inside; ++m) inside = face[m].n[0] >= 0 && face[m].n[1] >= 0 && face[m].n[2] >= 0 && face[m].n[3] >= 0;
+    if (!inside) {
+      PV *other = bufA;
+      for (int k = 0; k < 4 && nf > 0; ++k) {
+        if (!Cuts(face, nf, k)) continue;
+        nf = Clip(face, nf, other, k);
+        PV *tmp = face; face = other; other = tmp;
+      }
+      if (nf < 3) continue;
+      if (face != bufC)
+        for (int i = 0; i < nf; ++i) bufC[i] = face[i];
+      face = bufC;
+    }
     double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
     for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
       const int *tv = kFace[o];
       PV *poly = bufA;
-      for (int m = 0; m < 3; ++m) {
-        const double *lv = lam[fv[m]];
+      bool skip[3] = {true, true, true}, allin = true;
+      for (int i = 0; i < nf; ++i) {
+        const double *lv = face[i].n;
         const double lo = lv[o];
-        poly[m].n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
-        poly[m].n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
-        poly[m].n[2] = lv[tv[2]] - lo;
-        poly[m].n[3] = 4.0 * lo;
-        poly[m].l[0] = m == 0;
-        poly[m].l[1] = m == 1;
-        poly[m].l[2] = m == 2;
+        PV &q = poly[i];
+        q.n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
+        q.n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
+        q.n[2] = lv[tv[2]] - lo;
+        q.n[3] = 4.0 * lo;
+        q.l[0] = face[i].l[0];
+        q.l[1] = face[i].l[1];
+        q.l[2] = face[i].l[2];
+        for (int k = 0; k < 3; ++k) {
+          skip[k] = skip[k] && q.n[k] < 0;
+          allin = allin && q.n[k] >= 0;
+        }
       }
-      bool skip = false, allin = true;
-      for (int k = 0; k < 4; ++k) {
-        const double a0 = poly[0].n[k], a1 = poly[1].n[k], a2 = poly[2].n[k];
-        if (a0 < 0 && a1 < 0 && a2 < 0) { skip = true; break; }
-        if (a0 < 0 || a1 < 0 || a2 < 0) allin = false;
-      }
-      if (skip) continue;
+      if (skip[0] || skip[1] || skip[2]) continue;
       // Polygon in the base plane of t with the same outward normal: its
       // energy/volume share is counted once, from t's side (doc/contact.md).
-      const bool on_base = poly[0].n[3] == 0 && poly[1].n[3] == 0 && poly[2].n[3] == 0 && dA > 0;
-      int np = 3;
+      const bool on_base = lam[fv[0]][o] == 0 && lam[fv[1]][o] == 0 && lam[fv[2]][o] == 0 && dA > 0;
+      int np = nf;
       if (!allin) {
         PV *other = bufB;
-        for (int k = 0; k < 4 && np > 0; ++k) {
+        for (int k = 0; k < 3 && np > 0; ++k) {
+          if (!Cuts(poly, np, k)) continue;
           np = Clip(poly, np, other, k);
           PV *tmp = poly; poly = other; other = tmp;
         }
@@ -226,6 +299,11 @@ bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, doubl
 
 bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
                            double penalty_b, TetPairContact &out) {
+  return PotentialContactForce(a, fa, b, fb, penalty_a, penalty_b, 15, 15, out);
+}
+
+bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
+                           double penalty_b, int faces_a, int faces_b, TetPairContact &out) {
   CheckPenalty(penalty_a, "a");
   CheckPenalty(penalty_b, "b");
   for (auto &v : out.fa) v = Vec3{};
@@ -238,8 +316,8 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
     return false;
   }
   PassResult ab, ba;
-  Pass(a, fb, a_in_b, penalty_b, out.fa, out.fb, ab); // a's faces inside b, b's potential
-  Pass(b, fa, b_in_a, penalty_a, out.fb, out.fa, ba); // b's faces inside a, a's potential
+  Pass(a, fb, a_in_b, penalty_b, faces_a, out.fa, out.fb, ab); // a's faces inside b, b's potential
+  Pass(b, fa, b_in_a, penalty_a, faces_b, out.fb, out.fa, ba); // b's faces inside a, a's potential
   // Base-face terms of the divergence-theorem integrals (doc/contact.md):
   // sub-tetrahedron o of t contributes 1/4 h_o (eps/12) |face_o inside c|,
   // with h_o |face_o| = 3 |V_t| / 4.
@@ -251,7 +329,8 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
   out.weight = ab.weight + ba.weight;
   out.point = out.weight > 0 ? (1.0 / out.weight) * (ab.moment + ba.moment) : Vec3{};
   const double vmin = fa.vol < fb.vol ? fa.vol : fb.vol;
-  out.overlap = out.weight > 0 || volume > 1e-12 * vmin;
+  if ((faces_a & 15) == 15 && (faces_b & 15) == 15) out.overlap = out.weight > 0 || volume > 1e-12 * vmin;
+  else out.overlap = out.weight > 0 || fa_in_b > 0 || fb_in_a > 0; // the volume is not known: some face meets the other
   return out.overlap;
 }
 

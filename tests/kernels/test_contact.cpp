@@ -653,3 +653,99 @@ TEST(ContactDampingFriction, RigidCoMotionAndLimits) {
   EXPECT_NEAR(dot(D2, n), 5 * c.area * 1e-3, 1e-12);
   EXPECT_THROW(ContactDampingFriction(a, b, va, vb, c, ContactDissipation{-1, 0, 0}, da, db), InputError);
 }
+
+// A rigid skin as the rigid model makes one: the fan of tetrahedra from the centre to the 12
+// triangles of a cube whose corners are moved at random by up to a tenth of its half-side h
+// (vertex 0 the centre, so the face opposite vertex 0 is the one on the surface).
+static std::vector<Tet4> FanCube(std::mt19937_64 &rng, const Vec3 &centre, double h, double noise = 0.1) {
+  std::uniform_real_distribution<double> u(-noise * h, noise * h);
+  Vec3 p[8];
+  for (int i = 0; i < 8; ++i)
+    p[i] = centre + Vec3{(i & 1 ? h : -h) + u(rng), (i & 2 ? h : -h) + u(rng), (i & 4 ? h : -h) + u(rng)};
+  const int quad[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  std::vector<Tet4> fan;
+  for (const auto &q : quad) {
+    fan.push_back(Tet4{centre, p[q[0]], p[q[1]], p[q[2]]});
+    fan.push_back(Tet4{centre, p[q[0]], p[q[2]], p[q[3]]});
+  }
+  return fan;
+}
+
+// (7) Surface faces only: for two rigid skins, pushing only their surface faces gives each
+// body the same total force, torque and the same total energy as pushing every face (the
+// faces shared by two tetrahedra of a skin cancel), for skins against skins and against a
+// single tetrahedron whose faces are all pushed.
+TEST(PotentialContact, SurfaceFacesOnlyForRigidSkins) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worstF = 0, worstM = 0, worstE = 0;
+  int touching = 0, fewer = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const double h = 1.0;
+    const std::vector<Tet4> A = FanCube(rng, Vec3{0.2, -0.3, 0.1}, h);
+    std::vector<Tet4> B = FanCube(rng, Vec3{}, 0.8 * h);
+    const Mat3 R = RandomRotation(rng);
+    Vec3 d{u(rng), u(rng), u(rng)};
+    d = (1.75 * h / norm(d)) * d + Vec3{0.2, -0.3, 0.1}; // B's centre 1.75 h from A's
+    for (auto &t : B) t = Transform(R, d, t);
+    if (trial % 4 == 3) B = {Shift(RandomTet(rng, 1.8 * h), d)}; // a lone tetrahedron: all faces pushed
+    const int pushB = B.size() == 1 ? 15 : 1;
+    Vec3 F[2][2], M[2][2];
+    double E[2] = {0, 0}, scale = 0, mscale = 0;
+    int calls[2] = {0, 0};
+    for (int mode = 0; mode < 2; ++mode)
+      for (const Tet4 &a : A)
+        for (const Tet4 &b : B) {
+          TetFrame fa, fb;
+          MakeTetFrame(a, "a", fa);
+          MakeTetFrame(b, "b", fb);
+          TetPairContact c;
+          if (!PotentialContactForce(a, fa, b, fb, 2.0, 3.0, mode ? 1 : 15, mode ? pushB : 15, c)) continue;
+          ++calls[mode];
+          E[mode] += c.energy;
+          for (int k = 0; k < 4; ++k) {
+            F[mode][0] += c.fa[k];
+            F[mode][1] += c.fb[k];
+            M[mode][0] += cross(a[k], c.fa[k]);
+            M[mode][1] += cross(b[k], c.fb[k]);
+            if (mode == 0) scale += norm(c.fa[k]), mscale += norm(a[k]) * norm(c.fa[k]);
+          }
+        }
+    if (calls[0] == 0) continue;
+    ++touching;
+    fewer += calls[1] <= calls[0];
+    for (int s = 0; s < 2; ++s) {
+      worstF = std::max(worstF, norm(F[0][s] - F[1][s]) / scale);
+      worstM = std::max(worstM, norm(M[0][s] - M[1][s]) / mscale);
+    }
+    worstE = std::max(worstE, std::fabs(E[0] - E[1]) / std::fabs(E[0]));
+  }
+  { // a face of the lone tetrahedron in the plane x = y of two shared faces of an exact cube's fan
+    const std::vector<Tet4> A = FanCube(rng, Vec3{}, 1.0, 0.0);
+    const Tet4 t{Vec3{0.3, 0.3, -0.4}, Vec3{1.6, 1.6, 0.2}, Vec3{0.5, 0.5, 0.7}, Vec3{1.5, 0.6, 0.1}};
+    double E[2] = {0, 0};
+    Vec3 F[2];
+    for (int mode = 0; mode < 2; ++mode)
+      for (const Tet4 &a : A) {
+        TetFrame fa, fb;
+        MakeTetFrame(a, "a", fa);
+        MakeTetFrame(t, "b", fb);
+        TetPairContact c;
+        if (!PotentialContactForce(a, fa, t, fb, 2.0, 3.0, mode ? 1 : 15, 15, c)) continue;
+        E[mode] += c.energy;
+        for (int k = 0; k < 4; ++k) F[mode] += c.fa[k];
+      }
+    std::printf("  a face in the plane of two shared faces: energy %.17g (all faces) %.17g (surface faces), |dF| %.2e\n", E[0], E[1],
+                norm(F[0] - F[1]));
+    EXPECT_GT(E[0], 0);
+    EXPECT_NEAR(E[0], E[1], 1e-13 * E[0]);
+    EXPECT_LT(norm(F[0] - F[1]), 1e-13 * norm(F[0]));
+  }
+  std::printf("  %d touching configurations; surface faces only against all faces: force %.2e, torque %.2e "
+              "(relative to sum |f|, sum |x||f|), energy %.2e (relative)\n", touching, worstF, worstM, worstE);
+  EXPECT_GT(touching, 20);
+  EXPECT_EQ(fewer, touching);
+  EXPECT_LT(worstF, 1e-12);
+  EXPECT_LT(worstM, 1e-12);
+  EXPECT_LT(worstE, 1e-11);
+}

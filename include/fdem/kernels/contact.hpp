@@ -51,6 +51,21 @@ void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f);
 bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
                            double penalty_b, TetPairContact &out);
 
+// As above, with only some faces pushed: bit k of faces_a (faces_b) set when the face of a
+// (b) opposite its vertex k is pushed by the other's potential (15: all, as above). Meant for
+// the skin of a rigid body, whose faces shared by two of its tetrahedra feel equal and opposite
+// forces at the same points in the two tetrahedra's pairs with any other tetrahedron (both
+// pairs overlap wherever the shared face does): only the faces on the skin's surface need to
+// be pushed, and the body's total force and torque are the same to round-off (doc/contact.md,
+// "Surface faces only"). The pair's fa, fb, area, weight and point are then those of the
+// pushed faces alone. `energy` is the pair's share of the total: the shared faces' terms,
+// which cancel between the two pairs, are left out (their area inside the other tetrahedron,
+// which the other's energy needs, is still found); the sum over all pairs of the bodies is
+// the same to round-off, a single pair's value is not its overlap energy. overlap: the
+// pushed faces feel a potential, or some face meets the other tetrahedron.
+bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
+                           double penalty_b, int faces_a, int faces_b, TetPairContact &out);
+
 // Nodal forces only (overwritten, not accumulated).
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, std::array<Vec3, 4> &fa,
                            std::array<Vec3, 4> &fb);
