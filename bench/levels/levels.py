@@ -19,9 +19,12 @@ fragments.csv):
 
   runout    the horizontal distance from the column's axis within which 95%
             of the pebbles come to rest (m)
-  slope     the heap's slope angle (degrees): a straight line fitted to the
-            highest centre in each ring of width one pebble, over the rings
-            between 20% and 80% of the run-out
+  slope     the deposit's mean slope angle (degrees), atan(h / runout), h the
+            highest centre within two lattice pitches of the axis (the
+            deposit is a low mound, a few pebbles deep, not a cone)
+
+--reuse takes a level's earlier run from OUT_DIR/LEVEL (its run.log and
+output) instead of running it again; levels without a run.log are run.
 
 For each level the script runs the fdem driver, reads its CPU time ("stepping
 CPU time"; cost = CPU seconds per simulated second) and the observables, and
@@ -156,17 +159,8 @@ class Column:
             sys.exit("levels.py: %s has %d pebbles, expected %d" % (d, len(pts), len(self.points)))
         r = sorted(math.hypot(x, y) for x, y, _ in pts)
         runout = r[min(len(r) - 1, int(0.95 * len(r)))]
-        ring = 2 * self.SIZE
-        top = {}
-        for x, y, z in pts:
-            k = int(math.hypot(x, y) / ring)
-            top[k] = max(top.get(k, -1.0), z)
-        xs = [(k + 0.5) * ring for k in sorted(top) if 0.2 * runout <= (k + 0.5) * ring <= 0.8 * runout]
-        zs = [top[k] for k in sorted(top) if 0.2 * runout <= (k + 0.5) * ring <= 0.8 * runout]
-        slope = 0.0
-        if len(xs) >= 2:
-            mx, mz = sum(xs) / len(xs), sum(zs) / len(zs)
-            slope = -sum((a - mx) * (b - mz) for a, b in zip(xs, zs)) / sum((a - mx) ** 2 for a in xs)
+        h = max(z for x, y, z in pts if math.hypot(x, y) <= 2 * self.pitch)
+        slope = h / runout
         return {"runout_m": runout, "slope_deg": math.degrees(math.atan(max(slope, 0.0)))}
 
 
@@ -179,14 +173,22 @@ for level in levels:
     path = os.path.join(d, "scene.yaml")
     with open(path, "w") as f:
         f.write(sc.scene(level))
-    cmd = ["mpiexec", "-n", np_, fdem, path, "-fdem_output", d, "-fdem_progress", "0"]
-    print("$ " + " ".join(cmd), flush=True)
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if r.returncode != 0:
-        print(r.stdout[-3000:] + r.stderr[-3000:])
-        sys.exit("FAIL: %s level" % level)
-    cpu = float(re.search(r"stepping CPU time ([0-9.e+-]+) s", r.stdout).group(1))
-    steps = int(re.search(r"in (\d+) steps", r.stdout).group(1))
+    log = os.path.join(d, "run.log")
+    if "--reuse" in sys.argv and os.path.exists(log):
+        print("reusing " + log, flush=True)
+        stdout = open(log).read()
+    else:
+        cmd = ["mpiexec", "-n", np_, fdem, path, "-fdem_output", d, "-fdem_progress", "0"]
+        print("$ " + " ".join(cmd), flush=True)
+        r = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if r.returncode != 0:
+            print(r.stdout[-3000:] + r.stderr[-3000:])
+            sys.exit("FAIL: %s level" % level)
+        stdout = r.stdout
+        with open(log, "w") as f:
+            f.write(stdout)
+    cpu = float(re.search(r"stepping CPU time ([0-9.e+-]+) s", stdout).group(1))
+    steps = int(re.search(r"in (\d+) steps", stdout).group(1))
     row = {"level": level, "steps": steps, "cpu_s": cpu, "cost_per_sim_s": cpu / sc.END}
     row.update(sc.observe(d))
     rows.append(row)
