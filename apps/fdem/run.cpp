@@ -479,8 +479,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (write) PetscCall(WriteJointBreaks(s, breaks, dt));
     // an energy gain far above the integration error is an unstable step: stop, and say why
     scale = std::max(scale, b.kinetic + std::fabs(b.strain) + std::fabs(b.contact) + b.fracture + std::fabs(b.external_work) + std::fabs(b.gravity - first.gravity));
-    const PetscReal gain = -(b.dissipated - first.dissipated); // above round-off in the totals, which hold gravity's arbitrary datum
-    if (o.gain_limit > 0 && gain > o.gain_limit * scale && gain > 1e-9 * (std::fabs(first.total) + std::fabs(first.gravity) + scale)) {
+    // (above the round-off of the totals, which hold gravity's arbitrary datum, and above 1e-12 J,
+    // the round-off of a scene at rest whose energies are all zero)
+    const PetscReal gain = -(b.dissipated - first.dissipated);
+    if (o.gain_limit > 0 && gain > o.gain_limit * scale && gain > 1e-9 * (std::fabs(first.total) + std::fabs(first.gravity) + scale) && gain > 1e-12) {
       if (bal) std::fflush(bal);
       SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
               "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.0f%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
