@@ -224,37 +224,39 @@ struct JointPoints {
 // The joint's compression over its face: with g_i = -dn_i the overlap at vertex i (> 0 where
 // B has passed through A) and g linear over the triangle of area A, the integral of
 // max(g, 0)^2 (m^4) and its derivatives dI/dg_i = 2 int max(g, 0) N_i dA (N_i the linear shape
-// functions). Exact: the triangle is clipped to g >= 0 (Sutherland-Hodgman in barycentric
-// coordinates) and the polygon fanned into triangles, on which products of linear functions
-// integrate as A'/12 (sum f_v h_v + sum f_v sum h_v). When every g_i >= 0 it is the midpoints'
-// rule (A/3) sum_q g_q^2 exactly, and its derivatives are the midpoints' forces.
+// functions). Exact, in closed form: the part of the triangle where g >= 0 is the whole
+// triangle, the corner triangle at the one vertex with g >= 0, or the quadrilateral left when
+// the corner at the one vertex with g < 0 is cut off. The edges are cut where g = 0, at the
+// fractions t of the text below, and the part is two triangles at most, on each of which
+// products of linear functions integrate as A'/12 (sum f_v h_v + sum f_v sum h_v). When every
+// g_i >= 0 it is the midpoints' rule (A/3) sum_q g_q^2 exactly, and its derivatives are the
+// midpoints' forces.
 double OverlapSquared(const double g[3], double A, double dI[3]) {
   dI[0] = dI[1] = dI[2] = 0;
   if (!(g[0] > 0 || g[1] > 0 || g[2] > 0)) return 0;
-  struct V { double l[3], g; };
-  V poly[4], in[3];
-  for (int i = 0; i < 3; ++i) in[i] = V{{i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0}, g[i]};
-  int np = 0;
-  for (int i = 0; i < 3; ++i) {
-    const V &p = in[i], &q = in[(i + 1) % 3];
-    if (p.g >= 0) poly[np++] = p;
-    if ((p.g >= 0) != (q.g >= 0)) {
-      const double t = p.g / (p.g - q.g);
-      V &r = poly[np++];
-      for (int k = 0; k < 3; ++k) r.l[k] = p.l[k] + t * (q.l[k] - p.l[k]);
-      r.g = 0;
-    }
+  const int inside = (g[0] >= 0) + (g[1] >= 0) + (g[2] >= 0);
+  const double k = A / 12.0;
+  if (inside == 3) {
+    const double sg = g[0] + g[1] + g[2];
+    for (int i = 0; i < 3; ++i) dI[i] = 2.0 * k * (g[i] + sg);
+    return k * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2] + sg * sg);
   }
-  double I = 0;
-  for (int m = 1; m + 1 < np; ++m) {
-    const V &a = poly[0], &b = poly[m], &c = poly[m + 1];
-    // the sub-triangle's area over A: the determinant of its barycentric coordinates
-    const double r = std::fabs(a.l[0] * (b.l[1] * c.l[2] - b.l[2] * c.l[1]) - a.l[1] * (b.l[0] * c.l[2] - b.l[2] * c.l[0]) + a.l[2] * (b.l[0] * c.l[1] - b.l[1] * c.l[0]));
-    const double k = A * r / 12.0, sg = a.g + b.g + c.g;
-    I += k * (a.g * a.g + b.g * b.g + c.g * c.g + sg * sg);
-    for (int i = 0; i < 3; ++i) dI[i] += 2.0 * k * (a.g * a.l[i] + b.g * b.l[i] + c.g * c.l[i] + sg * (a.l[i] + b.l[i] + c.l[i]));
+  if (inside == 1) { // the corner at p, cut at the fractions tq, tr of its edges to q and r
+    const int    p = g[0] >= 0 ? 0 : g[1] >= 0 ? 1 : 2, q = (p + 1) % 3, r = (p + 2) % 3;
+    const double tq = g[p] / (g[p] - g[q]), tr = g[p] / (g[p] - g[r]);
+    const double c = 2.0 * k * tq * tr * g[p]; // twice the corner's A'/12, times g_p
+    dI[p] = c * (4.0 - tq - tr), dI[q] = c * tq, dI[r] = c * tr;
+    return c * g[p];
   }
-  return I;
+  // the corner at r cut off, at the fractions tp, tq of the edges from p and q to r: the
+  // triangles (p, q, Q) of area tq A and (p, Q, P) of area (1 - tq) tp A, with P, Q the cuts
+  const int    r = g[0] < 0 ? 0 : g[1] < 0 ? 1 : 2, p = (r + 1) % 3, q = (r + 2) % 3;
+  const double tp = g[p] / (g[p] - g[r]), tq = g[q] / (g[q] - g[r]);
+  const double a1 = k * tq, a2 = k * (1.0 - tq) * tp, s1 = g[p] + g[q];
+  dI[p] = 2.0 * (a1 * (g[p] + s1) + a2 * g[p] * (3.0 - tp));
+  dI[q] = 2.0 * (a1 * (g[q] + s1 * (2.0 - tq)) + a2 * g[p] * (1.0 - tq));
+  dI[r] = 2.0 * (a1 * s1 * tq + a2 * g[p] * (tq + tp));
+  return a1 * (g[p] * g[p] + g[q] * g[q] + s1 * s1) + a2 * 2.0 * g[p] * g[p];
 }
 // The joint's compression (J): the larger of the penalty's energy at the midpoints (w per point,
 // broken points included) and its exact integral over the pressed part of the face
