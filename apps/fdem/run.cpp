@@ -148,32 +148,33 @@ PetscErrorCode PrintContactSummary(const Sim &s, PetscInt nbodies) {
 // dir/bodies.csv: the state of every rigid body at the end of the run (one row per body, in the
 // order of the scene; R row by row), for comparing runs body by body.
 PetscErrorCode WriteBodies(Sim &s, const std::string &file) {
-  PetscInt    n;
-  PetscMPIInt rank;
-  FILE       *fp = nullptr;
-  int         err = 0;
+  PetscInt            n;
+  FDEMRigidBodyState *st = nullptr;
+  PetscMPIInt         rank;
+  FILE               *fp  = nullptr;
+  int                 err = 0;
   PetscFunctionBeginUser;
   if (!s.rb) PetscFunctionReturn(0);
   if (s.U) PetscCall(SimRestore(s));
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
-  PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &n));
+  PetscCall(FDEMRigidGetBodyStates(s.rb, 0, &n, &st)); // on rank 0, in the order of the ids
   if (rank == 0) {
     fp = std::fopen(file.c_str(), "w");
     err = fp ? 0 : 1;
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  if (err) PetscCall(PetscFree(st));
   PetscCheck(!err, s.comm, PETSC_ERR_FILE_OPEN, "cannot write %s", file.c_str());
   if (fp) std::fprintf(fp, "id,name,x,y,z,vx,vy,vz,wx,wy,wz,R00,R01,R02,R10,R11,R12,R20,R21,R22\n");
-  for (PetscInt id = 0; id < n; ++id) {
-    FDEMRigidBodyState b;
-    PetscCall(FDEMRigidGetBodyState(s.rb, id, &b));
-    if (!fp) continue;
+  for (PetscInt id = 0; fp && id < n; ++id) {
+    const FDEMRigidBodyState &b = st[id];
     std::fprintf(fp, "%" PetscInt_FMT ",%s", id, RigidBodyName(s, id).c_str());
     for (const PetscReal *v : {b.x, b.v, b.omega_space})
       for (int k = 0; k < 3; ++k) std::fprintf(fp, ",%.17g", (double)v[k]);
     for (int k = 0; k < 9; ++k) std::fprintf(fp, ",%.17g", (double)b.R[k]);
     std::fprintf(fp, "\n");
   }
+  PetscCall(PetscFree(st));
   if (fp) err = std::fclose(fp) != 0;
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
   PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "error writing %s", file.c_str());

@@ -131,6 +131,11 @@ typedef struct {
 } FDEMRigidBodyState;
 /* Collective: the state of body id, wherever it lives. */
 PETSC_EXTERN PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodyState *st);
+/* Collective: every body's state, gathered on rank root in the order of the ids (*n the number
+   of bodies; free *states with PetscFree); the other ranks get *n = 0 and NULL. One gather, so
+   linear in the bodies, where a loop over FDEMRigidGetBodyState costs a search and a broadcast
+   per body. */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetBodyStates(FDEMRigid rb, PetscMPIInt root, PetscInt *n, FDEMRigidBodyState **states);
 /* Collective: total linear and angular momentum (about the origin) and kinetic energy. */
 PETSC_EXTERN PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3], PetscReal L[3], PetscReal *E);
 

@@ -843,43 +843,85 @@ PetscErrorCode FDEMRigidGetTime(FDEMRigid rb, PetscReal *t, PetscInt *steps) {
   PetscFunctionReturn(0);
 }
 
+// The state of local body b (its id from the swarm; rank is this rank).
+static void LocalBodyState(const RigidFields &f, PetscInt b, PetscMPIInt rank, FDEMRigidBodyState *st) {
+  *st      = FDEMRigidBodyState{};
+  st->id   = f.id[b];
+  st->rank = rank;
+  st->mass = f.mass[b];
+  for (int i = 0; i < 3; ++i) {
+    st->inertia[i] = f.I[3 * b + i];
+    st->x[i]       = f.x[3 * b + i];
+    st->v[i]       = f.v[3 * b + i];
+    st->H[i]       = f.H[3 * b + i];
+  }
+  for (int i = 0; i < 9; ++i) st->R[i] = f.R[9 * b + i];
+  const Vec3 w = fdem::kernels::SpaceOmega(FromRowMajor(&f.R[9 * b]), Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), Vec3(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]));
+  for (int i = 0; i < 3; ++i) st->omega_space[i] = w[i];
+  st->radius = f.radius[b];
+}
+
 PetscErrorCode FDEMRigidGetBodyState(FDEMRigid rb, PetscInt id, FDEMRigidBodyState *st) {
-  PetscInt    n;
-  RigidFields f;
-  PetscMPIInt owner = -1, gowner;
-  PetscReal   buf[1 + 3 + 3 + 9 + 3 + 3 + 3 + 1] = {0};
+  PetscInt           n;
+  RigidFields        f;
+  PetscMPIInt        owner = -1, gowner;
+  FDEMRigidBodyState mine{};
   PetscFunctionBegin;
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
   PetscCall(fdem::model::RigidGetFields(rb->sw, f));
-  for (PetscInt b = 0; b < n; ++b) {
-    if (f.id[b] != id) continue;
-    owner  = rb->rank;
-    int k  = 0;
-    buf[k++] = f.mass[b];
-    for (int i = 0; i < 3; ++i) buf[k++] = f.I[3 * b + i];
-    for (int i = 0; i < 3; ++i) buf[k++] = f.x[3 * b + i];
-    for (int i = 0; i < 9; ++i) buf[k++] = f.R[9 * b + i];
-    for (int i = 0; i < 3; ++i) buf[k++] = f.v[3 * b + i];
-    for (int i = 0; i < 3; ++i) buf[k++] = f.H[3 * b + i];
-    const Vec3 w = fdem::kernels::SpaceOmega(FromRowMajor(&f.R[9 * b]), Vec3(f.I[3 * b], f.I[3 * b + 1], f.I[3 * b + 2]), Vec3(f.H[3 * b], f.H[3 * b + 1], f.H[3 * b + 2]));
-    for (int i = 0; i < 3; ++i) buf[k++] = w[i];
-    buf[k++] = f.radius[b];
-  }
+  for (PetscInt b = 0; b < n; ++b)
+    if (f.id[b] == id) {
+      owner = rb->rank;
+      LocalBodyState(f, b, rb->rank, &mine);
+    }
   PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
   PetscCallMPI(MPI_Allreduce(&owner, &gowner, 1, MPI_INT, MPI_MAX, rb->comm));
   PetscCheck(gowner >= 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "No rigid body with id %" PetscInt_FMT, id);
-  PetscCallMPI(MPI_Bcast(buf, (int)(sizeof(buf) / sizeof(buf[0])), MPIU_REAL, gowner, rb->comm));
-  int k     = 0;
-  st->id    = id;
-  st->rank  = gowner;
-  st->mass  = buf[k++];
-  for (int i = 0; i < 3; ++i) st->inertia[i] = buf[k++];
-  for (int i = 0; i < 3; ++i) st->x[i] = buf[k++];
-  for (int i = 0; i < 9; ++i) st->R[i] = buf[k++];
-  for (int i = 0; i < 3; ++i) st->v[i] = buf[k++];
-  for (int i = 0; i < 3; ++i) st->H[i] = buf[k++];
-  for (int i = 0; i < 3; ++i) st->omega_space[i] = buf[k++];
-  st->radius = buf[k++];
+  PetscCallMPI(MPI_Bcast(&mine, (int)sizeof(mine), MPI_BYTE, gowner, rb->comm));
+  *st = mine;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMRigidGetBodyStates(FDEMRigid rb, PetscMPIInt root, PetscInt *n, FDEMRigidBodyState **states) {
+  PetscInt                        nl, ng;
+  RigidFields                     f;
+  std::vector<FDEMRigidBodyState> mine;
+  PetscFunctionBegin;
+  PetscCheck(root >= 0 && root < rb->size, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMRigidGetBodyStates: root %d is not a rank of the communicator (size %d)", root, rb->size);
+  *n      = 0;
+  *states = nullptr;
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &nl));
+  PetscCall(DMSwarmGetSize(rb->sw, &ng));
+  PetscCall(fdem::model::RigidGetFields(rb->sw, f));
+  mine.resize((size_t)nl);
+  for (PetscInt b = 0; b < nl; ++b) LocalBodyState(f, b, rb->rank, &mine[(size_t)b]);
+  PetscCall(fdem::model::RigidRestoreFields(rb->sw, f));
+  // one MPI type for a record (its bytes), so that counts and displacements are in records
+  MPI_Datatype     rec;
+  int              count = (int)nl;
+  std::vector<int> counts(rb->rank == root ? rb->size : 0), displs(counts.size());
+  PetscCallMPI(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, rb->comm));
+  std::vector<FDEMRigidBodyState> all;
+  if (rb->rank == root) {
+    PetscInt total = 0;
+    for (size_t r = 0; r < counts.size(); ++r) displs[r] = (int)total, total += counts[r];
+    all.resize((size_t)total);
+  }
+  PetscCallMPI(MPI_Type_contiguous((int)sizeof(FDEMRigidBodyState), MPI_BYTE, &rec));
+  PetscCallMPI(MPI_Type_commit(&rec));
+  PetscCallMPI(MPI_Gatherv(mine.data(), count, rec, all.data(), counts.data(), displs.data(), rec, root, rb->comm));
+  PetscCallMPI(MPI_Type_free(&rec));
+  if (rb->rank != root) PetscFunctionReturn(0);
+  // in the order of the ids (0 .. ng - 1, each once)
+  PetscCheck((PetscInt)all.size() == ng, PETSC_COMM_SELF, PETSC_ERR_PLIB, "FDEMRigidGetBodyStates: gathered %zu bodies of %" PetscInt_FMT, all.size(), ng);
+  PetscCall(PetscMalloc1(ng, states));
+  std::vector<char> seen((size_t)ng, 0);
+  for (const auto &st : all) {
+    PetscCheck(st.id >= 0 && st.id < ng && !seen[(size_t)st.id], PETSC_COMM_SELF, PETSC_ERR_PLIB, "FDEMRigidGetBodyStates: body id %" PetscInt_FMT " out of range or held twice", st.id);
+    seen[(size_t)st.id] = 1;
+    (*states)[st.id]    = st;
+  }
+  *n = ng;
   PetscFunctionReturn(0);
 }
 

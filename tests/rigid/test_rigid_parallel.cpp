@@ -163,6 +163,32 @@ int main(int argc, char **argv) {
   if (size > 1) CHECK(moved >= NB / 4, "only %" PetscInt_FMT " bodies changed rank on %d ranks", moved, size);
   else CHECK(moved == 0, "%" PetscInt_FMT " bodies changed rank on one rank", moved);
 
+  // every body's state gathered at once on the last rank (FDEMRigidGetBodyStates) is the state
+  // FDEMRigidGetBodyState gives body by body, to the bit, in the order of the ids
+  {
+    PetscInt            n;
+    FDEMRigidBodyState *all;
+    PetscMPIInt         rank;
+    PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+    PetscCall(FDEMRigidGetBodyStates(par, size - 1, &n, &all));
+    PetscInt wrong = !(n == (rank == size - 1 ? NB : 0) && (n == 0) == (all == nullptr)), differ = 0;
+    for (PetscInt id = 0; id < NB; ++id) {
+      FDEMRigidBodyState a;
+      PetscCall(FDEMRigidGetBodyState(par, id, &a));
+      if (id >= n) continue;
+      const FDEMRigidBodyState &b = all[id];
+      bool same = a.id == b.id && a.rank == b.rank && a.mass == b.mass && a.radius == b.radius;
+      for (int k = 0; k < 3; ++k) same = same && a.inertia[k] == b.inertia[k] && a.x[k] == b.x[k] && a.v[k] == b.v[k] && a.H[k] == b.H[k] && a.omega_space[k] == b.omega_space[k];
+      for (int k = 0; k < 9; ++k) same = same && a.R[k] == b.R[k];
+      differ += !same;
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &differ, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(wrong == 0, "FDEMRigidGetBodyStates gave the wrong number of bodies on %" PetscInt_FMT " rank(s) (all %" PetscInt_FMT " on the root, none elsewhere)", wrong, NB);
+    CHECK(differ == 0, "%" PetscInt_FMT " bodies differ between FDEMRigidGetBodyStates and FDEMRigidGetBodyState", differ);
+    PetscCall(PetscFree(all));
+  }
+
   PetscCall(FDEMRigidDestroy(&par));
   PetscCall(FDEMRigidDestroy(&ser));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d failures\n", failures));
