@@ -193,7 +193,7 @@ inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__r
 constexpr std::size_t kBlock = 16;
 
 template <class Model, bool Visc>
-std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count, const MaterialCoeffs &c,
+__attribute__((target_clones("arch=x86-64-v3", "default"))) std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count, const MaterialCoeffs &c,
                    const double *x, const double *v, double *f, std::size_t *done) {
   std::int64_t bad = -1;
   const MaterialCoeffs cc = c;

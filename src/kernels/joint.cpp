@@ -291,7 +291,7 @@ double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb
 
 } // namespace
 
-void JointBlockForces(JointBlock &B) {
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForces(JointBlock &B) {
   const int     nb = B.n;
   BlockGeometry G;
   G.Set(B);
