@@ -22,25 +22,14 @@ python3 "$here/make_chute.py" "$tmp/start.dump" "$steps" > "$tmp/chute.yaml"
 lig=$(command -v liggghts || true)
 [ -n "$lig" ] && python3 "$here/make_chute.py" "$tmp/start.dump" "$steps" --liggghts "$tmp"
 n=$(( (layers + 1) * lx * ly ))
-r=1
-while [ $r -le "$rounds" ]; do
-  for np in 1 2; do
-    f=$(mpiexec -n $np "$build/apps/fdem/fdem" "$tmp/chute.yaml" -fdem_output "$tmp/out" -fdem_progress 0 2>&1)
-    ft=$(echo "$f" | sed -n 's/.*stepping \([0-9.e+-]*\) s:.*/\1/p')
-    fvx=$(awk -F, 'NR > 1 && $2 ~ /^s/ {s += $6; c++} END {printf "%.6f", s / c}' "$tmp/out/bodies.csv")
-    l=$(mpiexec -n $np lmp -in "$here/in.chute" -var mode race -var datafile "$tmp/start.data" -var steps "$steps" -log none 2>&1)
-    lt=$(echo "$l" | awk '/^Loop time/{print $4}')
-    lvx=$(echo "$l" | awk '/^ *Step/{getline; getline; print $4}')
-    gt=0; gvx=0
-    if [ -n "$lig" ]; then
-      g=$(mpiexec -n $np "$lig" -in "$here/in.chute.liggghts" -var dir "$tmp" -var steps "$steps" -log none 2>&1)
-      gt=$(echo "$g" | awk '/^Loop time/{print $4}')
-      gvx=$(echo "$g" | awk '/^ *Step/{getline; getline; print $4}')
-    fi
-    echo "$n $steps $np $ft $lt $fvx $lvx $gt $gvx" | awk -v r=$r '{
-      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$5/np; gps=($8 > 0) ? n*s/$8/np : 0; rg=(gps > 0) ? fps/gps : 0;
-      printf "round %d, %d rank(s), %d spheres: particle-steps/s/core fdem %.3g, LAMMPS %.3g, LIGGGHTS %.3g; fdem/LAMMPS %.2f, fdem/LIGGGHTS %.2f; mean flow velocity <vx> fdem %.6f, LAMMPS %.6f, LIGGGHTS %.6f\n", r, np, n, fps, lps, gps, fps/lps, rg, $6, $7, $9 }'
-  done
-  r=$((r + 1))
-done
+OBS_NAME="mean flow velocity <vx>"
+fdem_run() {
+  f=$(mpiexec -n $1 "$build/apps/fdem/fdem" "$tmp/chute.yaml" -fdem_output "$tmp/out" -fdem_progress 0 2>&1)
+  echo "$f" | sed -n 's/.*stepping \([0-9.e+-]*\) s:.*/\1/p'
+  awk -F, 'NR > 1 && $2 ~ /^s/ {s += $6; c++} END {printf "%.6f\n", s / c}' "$tmp/out/bodies.csv"
+}
+lmp_run() { mpiexec -n $1 lmp -in "$here/in.chute" -var mode race -var datafile "$tmp/start.data" -var steps "$steps" -log none; }
+lig_run() { mpiexec -n $1 "$lig" -in "$here/in.chute.liggghts" -var dir "$tmp" -var steps "$steps" -log none; }
+. "$here/rounds.sh"
+run_rounds
 rm -rf "$tmp"

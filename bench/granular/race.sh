@@ -20,25 +20,14 @@ python3 "$here/make_bed.py" "$cells" "$steps" --from "$tmp/start.dump" > "$tmp/b
 lig=$(command -v liggghts || true)
 [ -n "$lig" ] && python3 "$here/make_bed.py" "$cells" "$steps" --from "$tmp/start.dump" --liggghts "$tmp"
 n=$((4 * cells * cells * cells))
-r=1
-while [ $r -le "$rounds" ]; do
-  for np in 1 2; do
-    f=$(mpiexec -n $np "$build/apps/fdem/fdem" "$tmp/bed.yaml" -fdem_output none -fdem_progress 0 2>&1)
-    ft=$(echo "$f" | sed -n 's/.*stepping \([0-9.e+-]*\) s:.*/\1/p')
-    ftouch=$(echo "$f" | sed -n 's/.*last evaluation \([0-9]*\) touching.*/\1/p')
-    l=$(mpiexec -n $np lmp -in "$here/in.bed" -var cells "$cells" -var steps "$steps" -log none 2>&1)
-    lt=$(echo "$l" | awk '/^Loop time/{print $4}')
-    lcm=$(echo "$l" | awk '/^ *Step/{getline; getline; print $4}')
-    gt=0; gcm=0
-    if [ -n "$lig" ]; then
-      g=$(mpiexec -n $np "$lig" -in "$here/in.bed.liggghts" -var dir "$tmp" -var steps "$steps" -log none 2>&1)
-      gt=$(echo "$g" | awk '/^Loop time/{print $4}')
-      gcm=$(echo "$g" | awk '/^ *Step/{getline; getline; print $4}')
-    fi
-    echo "$n $steps $np $ft $ftouch $lt $lcm $gt $gcm" | awk -v r=$r '{
-      n=$1; s=$2; np=$3; fps=n*s/$4/np; lps=n*s/$6/np; gps=($8 > 0) ? n*s/$8/np : 0; rg=(gps > 0) ? fps/gps : 0;
-      printf "round %d, %d rank(s), %d spheres: particle-steps/s/core fdem %.3g, LAMMPS %.3g, LIGGGHTS %.3g; fdem/LAMMPS %.2f, fdem/LIGGGHTS %.2f; coordination fdem %.3f, LAMMPS %.3f, LIGGGHTS %.3f\n", r, np, n, fps, lps, gps, fps/lps, rg, 2*$5/n, $7, $9 }'
-  done
-  r=$((r + 1))
-done
+OBS_NAME=coordination
+fdem_run() {
+  f=$(mpiexec -n $1 "$build/apps/fdem/fdem" "$tmp/bed.yaml" -fdem_output none -fdem_progress 0 2>&1)
+  echo "$f" | sed -n 's/.*stepping \([0-9.e+-]*\) s:.*/\1/p'
+  echo "$f" | sed -n 's/.*last evaluation \([0-9]*\) touching.*/\1/p' | awk -v n=$n '{printf "%.3f\n", 2 * $1 / n}'
+}
+lmp_run() { mpiexec -n $1 lmp -in "$here/in.bed" -var cells "$cells" -var steps "$steps" -log none; }
+lig_run() { mpiexec -n $1 "$lig" -in "$here/in.bed.liggghts" -var dir "$tmp" -var steps "$steps" -log none; }
+. "$here/rounds.sh"
+run_rounds
 rm -rf "$tmp"

@@ -161,7 +161,7 @@ class Column:
         runout = r[min(len(r) - 1, int(0.95 * len(r)))]
         h = max(z for x, y, z in pts if math.hypot(x, y) <= 2 * self.pitch)
         slope = h / runout
-        return {"runout_m": runout, "slope_deg": math.degrees(math.atan(max(slope, 0.0)))}
+        return {"runout_m": runout, "slope_deg": math.degrees(math.atan(slope))}
 
 
 sc = Slab() if which == "slab" else Column(int(arg("--count", "1000")))
