@@ -595,9 +595,14 @@ PetscErrorCode Engine::Evaluate() {
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     fdem::kernels::TetPairContact pc, full;
     std::array<Vec3, 4>           fa, fb, da, db;
-    // each tetrahedron's frame once per evaluation, made when a pair first needs it
-    frames_.resize(nl_ + ng_);
-    made_.assign(nl_ + ng_, 0);
+    // each tetrahedron's frame and current box once per evaluation, made when a pair first needs
+    // it (the arrays kept from one evaluation to the next: no allocation per evaluation)
+    if (!pairs_.empty()) {
+      frames_.resize(nl_ + ng_);
+      made_.assign(nl_ + ng_, 0);
+      cboxes_.resize(nl_ + ng_);
+      cmade_.assign(nl_ + ng_, 0);
+    }
     auto frame = [&](int i, const char *name) -> const fdem::kernels::TetFrame & {
       if (!made_[i]) {
         fdem::kernels::MakeTetFrame(X(i), name, frames_[i]);
@@ -606,15 +611,12 @@ PetscErrorCode Engine::Evaluate() {
       return frames_[i];
     };
     PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
-    // each tetrahedron's current box once per evaluation (a tetrahedron is in many pairs)
-    std::vector<std::array<double, 6>> cboxes(nl_ + ng_);
-    std::vector<char>                  cmade(nl_ + ng_, 0);
-    auto cbox = [&](int i) -> const std::array<double, 6> & {
-      if (!cmade[i]) {
-        CurrentBox(X(i), cboxes[i]);
-        cmade[i] = 1;
+    auto cbox = [&](int i) -> const std::array<double, 6> & { // a tetrahedron is in many pairs
+      if (!cmade_[i]) {
+        CurrentBox(X(i), cboxes_[i]);
+        cmade_[i] = 1;
       }
-      return cboxes[i];
+      return cboxes_[i];
     };
     for (const auto &p : pairs_) {
       const Tet4 &a = X(p[0]), &b = X(p[1]);

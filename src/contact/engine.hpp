@@ -261,6 +261,10 @@ private:
   PetscSF                       sf_ = nullptr; // one Vertices record per primitive
   std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
   std::vector<char>             made_;           // frames_[i] made at this evaluation
+  std::vector<std::array<double, 6>> cboxes_;    // per own and ghost primitive: its current box, at this evaluation
+  std::vector<char>             cmade_;          // cboxes_[i] made at this evaluation
+  std::vector<std::uint16_t>    seen_;           // per own sphere: the spring slots a contact used at this evaluation
+  std::vector<HistorySlot *>    hslots_;         // per own sphere: its spring slots, looked up once per evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
@@ -281,7 +285,15 @@ private:
   std::vector<int>              sph_;          // per compact sphere: its primitive
   std::vector<double>           sr_;           // per compact sphere: its radius
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
-  std::vector<Vec3>             sbuf_;         // per compact sphere at an evaluation: centre, velocity, spin, force, torque
+  struct SphereNow {                           // a compact sphere at an evaluation, read together by a pair
+    Vec3   x, v, w;                              // centre, velocity, spin
+    double r;                                    // radius
+  };
+  struct SphereSum {                             // the forces on a compact sphere at an evaluation
+    Vec3 f, t;                                   // force, torque
+  };
+  std::vector<SphereNow>        snow_;
+  std::vector<SphereSum>        ssum_;
   std::vector<int>              stouch_, spos_; // at an evaluation: the touching pairs of sp_, and each one's place in batch_
   fdem::kernels::GranularBatch  batch_;
   std::vector<fdem::kernels::GranularPair> gtable_;

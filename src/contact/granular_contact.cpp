@@ -97,8 +97,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     // 1. the springs stay in their holder's slots: a contact's slot is found by its key (or a
     //    free one taken, from zero) and marked seen; after the pairs, this engine's slots that
     //    were not seen (contacts that opened) are freed, in the spheres that held any before
-    std::vector<std::uint16_t> seen(nl_, 0);
-    std::vector<HistorySlot *> hp(nl_, nullptr); // each holder's slots, looked up once
+    seen_.assign(nl_, 0);
+    hslots_.assign(nl_, nullptr); // each holder's slots, looked up once
+    std::uint16_t *const seen = seen_.data();
+    HistorySlot **const  hp   = hslots_.data();
     auto                       slots = [&](int i) { // own sphere i's slots
       if (!hp[i]) hp[i] = adapters_[P(i).kind]->History(i - first_[P(i).kind]);
       return hp[i];
@@ -181,12 +183,14 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       sp_fresh_ = false;
     }
     const int ns = (int)sph_.size();
-    sbuf_.resize(5 * (size_t)ns);
-    Vec3 *cx = sbuf_.data(), *cv = cx + ns, *cw = cv + ns, *cf = cw + ns, *ct = cf + ns;
+    snow_.resize((size_t)ns);
+    ssum_.assign((size_t)ns, SphereSum{});
+    SphereNow *const sn = snow_.data();
+    SphereSum *const su = ssum_.data();
     auto holder = [&](int c) { return slots(sph_[c]); }; // a holder is own; looked up when a contact starts or ends
     for (int c = 0; c < ns; ++c) {
       const int i = sph_[c];
-      cx[c] = X(i)[0], cv[c] = V(i)[0], cw[c] = V(i)[1], cf[c] = ct[c] = Vec3();
+      sn[c] = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
     }
     // the touching pairs (picked without a branch on the outcome); a contact that opened frees its slot
     stouch_.resize(sp_.size());
@@ -194,8 +198,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     bool one_law = true;
     for (size_t j = 0; j < sp_.size(); ++j) {
       SpherePair  &q  = sp_[j];
-      const Vec3   d  = cx[q.a] - cx[q.b];
-      const double rr = sr_[q.a] + sr_[q.b];
+      const Vec3   d  = sn[q.a].x - sn[q.b].x;
+      const double rr = sn[q.a].r + sn[q.b].r;
       const bool   t  = dot(d, d) < rr * rr;
       stouch_[nt]     = (int)j;
       nt += t;
@@ -232,7 +236,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     auto lay = [&](int m, int o) { // touching pair m into the batch's entry o
       const int   j = stouch_[m];
       SpherePair &q = sp_[j];
-      const Vec3  d = cx[q.a] - cx[q.b], dv = cv[q.a] - cv[q.b];
+      const SphereNow &A = sn[q.a], &B = sn[q.b];
+      const Vec3       d = A.x - B.x, dv = A.v - B.v;
       if (!(dot(d, d) > 0)) throw std::runtime_error(adapters_[P(sph_[q.a]).kind]->BodyName(P(sph_[q.a])) + " and " + adapters_[P(sph_[q.b]).kind]->BodyName(P(sph_[q.b])) + " have the same centre");
       if (q.law < 0) Law(P(sph_[q.a]), P(sph_[q.b])); // throws: no law for these two
       if (q.slot < 0) { // a new contact: a free slot
@@ -241,10 +246,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
           if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k, sps_[j] = Vec3();
         if (h && q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
       }
-      bdx[o] = d[0], bdy[o] = d[1], bdz[o] = d[2], bra[o] = sr_[q.a], brb[o] = sr_[q.b];
+      bdx[o] = d[0], bdy[o] = d[1], bdz[o] = d[2], bra[o] = A.r, brb[o] = B.r;
       bvx[o] = dv[0], bvy[o] = dv[1], bvz[o] = dv[2];
       for (int k = 0; k < 3; ++k) {
-        bwa[k][o] = cw[q.a][k], bwb[k][o] = cw[q.b][k];
+        bwa[k][o] = A.w[k], bwb[k][o] = B.w[k];
         bs[k][o]  = q.slot >= 0 ? sps_[j][k] : 0.0;
       }
       bm[o] = spc_[j].mstar, bcn[o] = spc_[j].cn;
@@ -255,17 +260,17 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       const int         j = stouch_[m];
       const SpherePair &q = sp_[j];
       for (int k = 0; k < 3; ++k) {
-        cf[q.a][k] += bf[k][o];
-        ct[q.a][k] += bta[k][o];
-        cf[q.b][k] -= bf[k][o];
-        ct[q.b][k] += btb[k][o];
+        su[q.a].f[k] += bf[k][o];
+        su[q.a].t[k] += bta[k][o];
+        su[q.b].f[k] -= bf[k][o];
+        su[q.b].t[k] += btb[k][o];
       }
       if (q.slot >= 0) {
         for (int k = 0; k < 3; ++k) sps_[j][k] = bs[k][o];
         seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
       }
       sums[0] += ben[o];
-      if (!checked_initial_) first(bov[o] / (0.5 * std::min(sr_[q.a], sr_[q.b])), sph_[q.a], sph_[q.b]); // deep: an overlap of half the smaller radius
+      if (!checked_initial_) first(bov[o] / (0.5 * std::min(sn[q.a].r, sn[q.b].r)), sph_[q.a], sph_[q.b]); // deep: an overlap of half the smaller radius
     };
     if (one_law)
       for (int m0 = 0; m0 < nt; m0 += kChunk) {
@@ -281,8 +286,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     }
     sums[1] += nt;
     for (int c = 0; c < ns; ++c) {
-      Force(sph_[c])[0] += cf[c];
-      Force(sph_[c])[1] += ct[c];
+      Force(sph_[c])[0] += su[c].f;
+      Force(sph_[c])[1] += su[c].t;
     }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
