@@ -371,7 +371,16 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
   PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, sc.dt > 0 ? "from the scene" : "auto",
                         wmax > 0 ? st.kcrit / wmax : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, wj, st.limit.c_str(), (double)end));
-  const PetscInt nsteps = std::max<PetscInt>(1, (PetscInt)std::ceil(end / dt * (1 - 1e-12)));
+  const double steps_to_end = std::ceil(end / dt * (1 - 1e-12));
+  PetscCheck(steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.file.c_str(), (double)end, (double)dt, steps_to_end,
+             (int)(PETSC_MAX_INT / 2));
+  PetscInt  nsteps = std::max<PetscInt>(1, (PetscInt)steps_to_end), max_steps;
+  PetscBool max_steps_set;
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-ts_max_steps", &max_steps, &max_steps_set)); // the command line wins: the run stops at that step
+  if (max_steps_set && max_steps >= 0) nsteps = std::min(nsteps, std::max<PetscInt>(max_steps, 1));
+  // the steps in an output interval (at least one, at most the run: an interval beyond the end
+  // means "at the end", and the count never leaves the range of PetscInt)
+  auto steps_in = [&](double interval) { return (PetscInt)std::clamp(std::round(interval / dt), 1.0, (double)nsteps); };
   if (o.check_only) {
     // time a few steps on a copy of the state
     Vec            U0;
@@ -438,10 +447,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (head) std::fprintf(breaks, "time,step,joint,body,x,y,z\n");
   }
   // segments end at balance rows; frames every `fevery` steps (a multiple of the segment)
-  const PetscInt fsteps = sc.output_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_every / dt)) : std::max<PetscInt>(1, nsteps / 50);
-  const PetscInt every  = sc.output_balance > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.output_balance / dt)) : std::max<PetscInt>(1, fsteps / 10);
+  const PetscInt fsteps = sc.output_every > 0 ? steps_in(sc.output_every) : std::max<PetscInt>(1, nsteps / 50);
+  const PetscInt every  = sc.output_balance > 0 ? steps_in(sc.output_balance) : std::max<PetscInt>(1, fsteps / 10);
   const PetscInt fevery = std::max<PetscInt>(1, fsteps / every) * every;
-  const PetscInt csteps = sc.checkpoint_every > 0 ? std::max<PetscInt>(1, (PetscInt)std::lround(sc.checkpoint_every / dt / every)) * every : 0;
+  const PetscInt csteps = sc.checkpoint_every > 0 ? (PetscInt)std::clamp(std::round(sc.checkpoint_every / dt / every), 1.0, (double)(nsteps / every + 1)) * every : 0;
   std::vector<PetscReal> frames;
   Balance                b;
   b.t = t;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 namespace fdem::driver {
@@ -23,6 +24,17 @@ kernels::TetMesh FromTets(std::vector<Vec3> X, std::vector<std::array<int, 4>> T
 
 int Cells(double length, double h) { return std::max(1, (int)std::lround(length / h)); }
 
+// A generated mesh of more tetrahedra than this is refused at input (each takes ~1 kB with its
+// nodes, the TS's vectors and contact): a resolution far below the body's size is a typo, and its
+// cell counts would leave the range of int
+constexpr double kMaxGeneratedTets = 1e8;
+void CheckGeneratedTets(double tets, double h) {
+  if (tets <= kMaxGeneratedTets) return;
+  char msg[200];
+  std::snprintf(msg, sizeof msg, "resolution %.3g m would give about %.3g tetrahedra (at most %.0e are generated): give a larger resolution", h, tets, kMaxGeneratedTets);
+  throw kernels::InputError(msg);
+}
+
 // Refinement level of the ellipsoid generator whose edges are about h on the largest semi-axis a.
 int Refinement(double a, double h) { return std::clamp((int)std::ceil(std::log2(M_PI * a / (2 * h))), 1, 6); }
 
@@ -38,6 +50,7 @@ kernels::TetMesh ShapeMesh(const Body &b) {
     case ShapeKind::Box: {
       const double smallest = std::min({s.size.x, s.size.y, s.size.z});
       const double h        = b.resolution > 0 ? b.resolution : (def ? smallest / 4 : smallest);
+      CheckGeneratedTets(6 * std::max(1.0, s.size.x / h) * std::max(1.0, s.size.y / h) * std::max(1.0, s.size.z / h), h);
       return kernels::MakeBoxMesh(-0.5 * s.size, 0.5 * s.size, Cells(s.size.x, h), Cells(s.size.y, h), Cells(s.size.z, h));
     }
     case ShapeKind::Sphere:
@@ -49,6 +62,7 @@ kernels::TetMesh ShapeMesh(const Body &b) {
     }
     case ShapeKind::Cylinder: {
       const double     h = b.resolution > 0 ? b.resolution : s.radius / (def ? 3 : 2);
+      CheckGeneratedTets(12 * std::max(1.0, s.radius / h) * std::max(1.0, s.radius / h) * std::max(1.0, s.height / h), h); // rings of ~2 pi r / h cells
       kernels::TetMesh m = kernels::MakeCylinderMesh(s.radius, s.height, Cells(s.radius, h), Cells(s.height, h));
       for (auto &p : m.nodes) p.z -= 0.5 * s.height;
       return m;

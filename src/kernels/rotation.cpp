@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -349,7 +350,17 @@ Mat3 ExactRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
   double panel = std::fabs(s);
   if (sol.Lam != 0.0 && std::isfinite(sol.K)) panel = std::min(panel, 0.25 * sol.K / std::fabs(sol.Lam));
   else if (sol.Lam != 0.0) panel = std::min(panel, 0.5 / std::fabs(sol.Lam));
-  const int npanel = std::max(1, static_cast<int>(std::ceil(std::fabs(s) / panel - 1e-12)));
+  // A step over more than kMaxPanels eighths of that period (the body wobbling through thousands
+  // of cycles in one step) resolves nothing of the motion, and its cost would grow without bound
+  // (an angular velocity of 1e20 rad/s took minutes a step, its panel count past the range of int)
+  constexpr double kMaxPanels = 1e5;
+  const double     want       = std::ceil(std::fabs(s) / panel - 1e-12);
+  if (!(want <= kMaxPanels)) {
+    char msg[256];
+    std::snprintf(msg, sizeof(msg), "the exact free rotation: the body wobbles through %.3g cycles of its torque-free motion in one step of %.3g s (|omega| up to %.3g rad/s)", want / 8, s, scale);
+    throw InputError(std::string(msg) + "; the step cannot follow it: lower the time step or the angular velocity");
+  }
+  const int npanel = std::max(1, static_cast<int>(want));
   double phi = 0.0;
   for (int k = 0; k < npanel; ++k) {
     const double ta = s * k / npanel, tb = s * (k + 1) / npanel;

@@ -2,6 +2,7 @@
 #include "../util/guard.hpp"
 #include "rigid_impl.hpp"
 #include <fdem/ts.h>
+#include <fdem/kernels/error.hpp>
 #include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/rotation.hpp>
 
@@ -135,7 +136,11 @@ PetscErrorCode Drift(TS ts, PetscReal, PetscReal s, Vec U, void *ctx) {
       for (int k = 0; k < 3; ++k) x[k] += s * v[k];
       if (rb->sphere[b] && !rb->sphere_orientation) continue; // a sphere's contacts do not see its orientation (omega = H / I all the same)
       const Vec3 I(rb->inertia[3 * b], rb->inertia[3 * b + 1], rb->inertia[3 * b + 2]);
-      ToRowMajor(fdem::kernels::FreeRotate(kind, FromRowMajor(R), I, Vec3(H[0], H[1], H[2]), s), R);
+      try {
+        ToRowMajor(fdem::kernels::FreeRotate(kind, FromRowMajor(R), I, Vec3(H[0], H[1], H[2]), s), R);
+      } catch (const fdem::kernels::InputError &e) {
+        throw fdem::kernels::InputError("rigid body " + std::to_string(b < (PetscInt)rb->ids.size() ? rb->ids[b] : -1) + ": " + e.what());
+      }
     }
     return 0;
   }));
