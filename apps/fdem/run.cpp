@@ -345,6 +345,11 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscTime(&w0));
   PetscCall(PetscStrncpy(scheme, sc.scheme.c_str(), sizeof(scheme)));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-ts_type", scheme, sizeof(scheme), &flg)); // the TS's own option (TSSetFromOptions lists it)
+  if (o.restart[0]) { // a checkpoint's overlaps were made by the run: a deep one is a warning, unless the command line says otherwise
+    PetscBool given;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
+    if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
+  }
   PetscCall(SimBuild(comm, sc, std::move(meshes), s));
   PetscReal t = 0, dt_restart = 0;
   PetscInt  step = 0;

@@ -178,7 +178,7 @@ PetscErrorCode Engine::CheckPenaltySet() const {
 
 PetscErrorCode Engine::SetFromOptions() {
   PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
-  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE, ic = initial_check_ ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBegin;
   PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
   PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
@@ -188,8 +188,10 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel; a pair's damping and friction then see the surface faces only)", "", so, &so, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_contact_initial_overlap_check", "Stop at the first evaluation when two bodies start interpenetrating deeply (a set-up error); false: a warning (the fdem driver's default when it restarts from a checkpoint, whose overlaps the run made)", "", ic, &ic, nullptr));
   PetscOptionsEnd();
-  surface_only_ = so;
+  surface_only_  = so;
+  initial_check_ = ic;
   if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
   if (fb && buf < 0) SetAutomaticBuffer();
@@ -685,6 +687,10 @@ PetscErrorCode Engine::CheckInitialOverlap(const std::array<double, 3> &deep) {
                             a->ElementName(A).c_str(), b->ElementName(B).c_str(), worst));
   }
   PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, from, comm_));
+  if (!initial_check_) {
+    PetscCall(PetscPrintf(comm_, "WARNING %s: %s (continuing: -fdem_contact_initial_overlap_check is off)\n", who_.c_str(), msg));
+    PetscFunctionReturn(0);
+  }
   SETERRQ(comm_, PETSC_ERR_USER_INPUT, "%s: %s", who_.c_str(), msg);
 }
 

@@ -310,6 +310,7 @@ private:
   bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   bool                          surface_only_ = false;
+  bool                          initial_check_ = true; // false: a deep initial overlap is a warning (a restart's state)
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};
 };
