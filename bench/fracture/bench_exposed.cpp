@@ -5,10 +5,11 @@
 // the first contact evaluation (list, search, ghosts, pair loop) and a following one
 // (pair loop only), for several n: a linear search keeps both flat as the count grows.
 // Options: -sizes 6,12,24 -repeats 3
+#include "joint_state.hpp"
+
 #include <fdem.h>
 #include <fdem/deformable.h>
 #include <fdem/deformable_contact.h>
-#include <petscviewerhdf5.h>
 
 #include <algorithm>
 #include <ctime>
@@ -24,7 +25,6 @@ static PetscErrorCode Run(PetscInt n, double *first, double *next, PetscInt *pai
   FDEMDeformable        d;
   FDEMDeformableContact c;
   Vec                   F, x;
-  PetscViewer           v;
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
   PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.25, 2000, 0, FDEM_MATERIAL_MUNJIZA_CST));
@@ -33,24 +33,7 @@ static PetscErrorCode Run(PetscInt n, double *first, double *next, PetscInt *pai
   PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, n, n, n));
   PetscCall(FDEMDeformableSetUp(d));
   PetscCall(FDEMDeformableGetJointStats(d, joints, nullptr, nullptr));
-  { // a joint state with every joint broken, written and loaded like a checkpoint's
-    Vec D, E;
-    PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, 3 * *joints, &D));
-    PetscCall(PetscObjectSetName((PetscObject)D, "joint_damage"));
-    PetscCall(VecSet(D, 1.0));
-    PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, *joints, &E));
-    PetscCall(PetscObjectSetName((PetscObject)E, "joint_dissipated"));
-    PetscCall(VecSet(E, 0.0));
-    PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, "bench_exposed_state.h5", FILE_MODE_WRITE, &v));
-    PetscCall(VecView(D, v));
-    PetscCall(VecView(E, v));
-    PetscCall(PetscViewerDestroy(&v));
-    PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, "bench_exposed_state.h5", FILE_MODE_READ, &v));
-    PetscCall(FDEMDeformableLoadJointState(d, v));
-    PetscCall(PetscViewerDestroy(&v));
-    PetscCall(VecDestroy(&D));
-    PetscCall(VecDestroy(&E));
-  }
+  PetscCall(LoadJointDamage(d, *joints, 1, "bench_exposed_state.h5")); // every joint broken, loaded like a checkpoint's
   PetscInt broken;
   PetscCall(FDEMDeformableGetJointStats(d, nullptr, &broken, nullptr));
   PetscCheck(broken == *joints, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "bench: %" PetscInt_FMT " of %" PetscInt_FMT " joints broken", broken, *joints);

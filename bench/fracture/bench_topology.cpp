@@ -9,9 +9,10 @@
 // Options: -n 26 (about 1e5 tetrahedra) -repeats 3; mpiexec -n 2 for two ranks.
 #include "../../src/model/deformable_impl.hpp"
 
+#include "joint_state.hpp"
+
 #include <fdem.h>
 #include <fdem/deformable.h>
-#include <petscviewerhdf5.h>
 
 #include <algorithm>
 #include <vector>
@@ -30,32 +31,6 @@ static PetscErrorCode Checksum(FDEMDeformable d, const fdem::model::FractureTopo
     for (int a = 0; a < 4; ++a) loc += mix(ngid[conn[4 * e + a]], t.cell_key[4 * e + a]);
   }
   PetscCallMPI(MPI_Allreduce(&loc, sum, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, PETSC_COMM_WORLD));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode Break(FDEMDeformable d, PetscInt joints, PetscInt every) {
-  Vec         D, E;
-  PetscViewer v;
-  PetscInt    lo, hi;
-  PetscFunctionBeginUser;
-  PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, 3 * joints, &D));
-  PetscCall(PetscObjectSetName((PetscObject)D, "joint_damage"));
-  PetscCall(VecGetOwnershipRange(D, &lo, &hi));
-  for (PetscInt i = lo; i < hi; ++i) PetscCall(VecSetValue(D, i, every > 0 && (i / 3) % every == 0 ? 1.0 : 0.0, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(D));
-  PetscCall(VecAssemblyEnd(D));
-  PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, joints, &E));
-  PetscCall(PetscObjectSetName((PetscObject)E, "joint_dissipated"));
-  PetscCall(VecSet(E, 0.0));
-  PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, "bench_topology_state.h5", FILE_MODE_WRITE, &v));
-  PetscCall(VecView(D, v));
-  PetscCall(VecView(E, v));
-  PetscCall(PetscViewerDestroy(&v));
-  PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, "bench_topology_state.h5", FILE_MODE_READ, &v));
-  PetscCall(FDEMDeformableLoadJointState(d, v));
-  PetscCall(PetscViewerDestroy(&v));
-  PetscCall(VecDestroy(&D));
-  PetscCall(VecDestroy(&E));
   PetscFunctionReturn(0);
 }
 
@@ -80,7 +55,7 @@ int main(int argc, char **argv) {
   const PetscInt    every[3] = {0, 3, 1};
   const char *const name[3]  = {"none broken", "every 3rd broken", "all broken"};
   for (int c = 0; c < 3; ++c) {
-    PetscCall(Break(d, joints, every[c]));
+    PetscCall(LoadJointDamage(d, joints, every[c], "bench_topology_state.h5"));
     double             best = 1e300;
     PetscInt           nf   = 0;
     unsigned long long sum  = 0;

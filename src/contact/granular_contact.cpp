@@ -206,13 +206,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
       one_law = one_law && (!t || q.law == law0);
       if (!t && q.slot >= 0) holder(q.a)[q.slot] = HistorySlot{}, q.slot = -1;
     }
-    // the batch in runs of one law (in the order of the pairs when there is one law)
-    spos_.resize(nt);
+    // several laws: the batch in runs of one law, spos_ the place of each touching pair in it
     std::vector<std::array<int, 3>> runs; // law, begin, end
-    if (one_law) {
-      for (int m = 0; m < nt; ++m) spos_[m] = m;
-      if (nt) runs.push_back({law0, 0, nt});
-    } else {
+    if (!one_law) {
+      spos_.resize(nt);
       std::vector<std::pair<int, int>> by(nt);
       for (int m = 0; m < nt; ++m) by[m] = {sp_[stouch_[m]].law, m};
       std::stable_sort(by.begin(), by.end(), [](const auto &u, const auto &w) { return u.first < w.first; });

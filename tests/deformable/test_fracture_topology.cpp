@@ -17,6 +17,7 @@
 //  3. on more than one rank, some fragment of the rock and some body that is not fracturable
 //     have cells on several ranks (so the labels had to cross ranks for 1 and 2 to hold).
 #include "common.hpp"
+#include "../common/reference.hpp"
 #include "../../src/model/deformable_impl.hpp"
 #include "../../src/model/deformable_object.hpp"
 
@@ -67,13 +68,9 @@ PetscErrorCode Make(MPI_Comm comm, FDEMDeformable *out) {
 // Breaks, on the rank that holds it, every joint whose face separates two regions (points just
 // off its centroid on either side) and the joints of the crack z = 0.2, x > 0.7, y < 0.2.
 PetscErrorCode Break(FDEMDeformable d) {
-  Vec                X, Xl;
-  const PetscScalar *x;
+  std::vector<PetscScalar> x;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
-  PetscCall(DMGetLocalVector(d->dm, &Xl));
-  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
-  PetscCall(VecGetArrayRead(Xl, &x));
+  PetscCall(LocalReference(d, x));
   for (size_t j = 0; j < d->jnode_a.size(); ++j) {
     Vec3 p[3];
     for (int i = 0; i < 3; ++i) p[i] = Vec3(x[3 * d->jnode_a[j][i]], x[3 * d->jnode_a[j][i] + 1], x[3 * d->jnode_a[j][i] + 2]);
@@ -83,8 +80,6 @@ PetscErrorCode Break(FDEMDeformable d) {
     if (Region(c + off) != Region(c - off) || crack)
       for (auto &s : d->jstate[j]) s.D = 1, s.broken = true;
   }
-  PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
   PetscFunctionReturn(0);
 }
 
@@ -97,17 +92,13 @@ struct CellAnswer {
 };
 
 PetscErrorCode Answers(FDEMDeformable d, const fdem::model::FractureTopology &t, std::map<PetscInt, CellAnswer> &out, std::vector<Vec3> *centroid) {
-  PetscInt nc, nl;
-  Vec      X, Xl;
+  PetscInt                 nc, nl;
+  std::vector<PetscScalar> x;
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nl, nullptr, nullptr, nullptr, nullptr));
   std::vector<PetscInt> conn(4 * (size_t)nc), cgid(nc), ngid(nl);
   PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nl, conn.data(), nullptr, cgid.data(), ngid.data()));
-  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
-  PetscCall(DMGetLocalVector(d->dm, &Xl));
-  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
-  const PetscScalar *x;
-  PetscCall(VecGetArrayRead(Xl, &x));
+  PetscCall(LocalReference(d, x));
   if (centroid) centroid->assign(nc, Vec3(0, 0, 0));
   for (PetscInt e = 0; e < nc; ++e) {
     CellAnswer A;
@@ -120,8 +111,6 @@ PetscErrorCode Answers(FDEMDeformable d, const fdem::model::FractureTopology &t,
     A.onfree     = t.cell_free[e] >> 4 & 1;
     out[cgid[e]] = A;
   }
-  PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
   PetscFunctionReturn(0);
 }
 } // namespace

@@ -29,6 +29,7 @@
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>
 #include "../common/check.hpp"
+#include "../common/reference.hpp"
 #include "../../src/model/deformable_object.hpp"
 
 #include <algorithm>
@@ -47,34 +48,24 @@ struct Result {
 // The side of every local node of the bar: -1 if its tetrahedron (a split node has one) lies
 // left of the middle, +1 if right.
 PetscErrorCode Sides(FDEMDeformable d, std::vector<int> &side) {
-  Vec                X, Xl;
-  const PetscScalar *x;
+  std::vector<PetscScalar> x;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
-  PetscCall(DMGetLocalVector(d->dm, &Xl));
-  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
-  PetscCall(VecGetArrayRead(Xl, &x));
+  PetscCall(LocalReference(d, x));
   side.assign(d->nlocal, 0);
   for (size_t e = 0; e < d->ed.size(); ++e) {
     double cx = 0;
     for (int q = 0; q < 4; ++q) cx += 0.25 * PetscRealPart(x[3 * d->ed.elems[e].n[q]]);
     for (int q = 0; q < 4; ++q) side[d->ed.elems[e].n[q]] = cx < L / 2 ? -1 : 1;
   }
-  PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
   PetscFunctionReturn(0);
 }
 
 // Breaks the joints of the plane x = L/2 (on the ranks that hold them); returns how many.
 PetscErrorCode BreakMiddle(FDEMDeformable d, PetscInt *broken) {
-  Vec                X, Xl;
-  const PetscScalar *x;
-  PetscInt           n = 0;
+  std::vector<PetscScalar> x;
+  PetscInt                 n = 0;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
-  PetscCall(DMGetLocalVector(d->dm, &Xl));
-  PetscCall(DMGlobalToLocal(d->dm, X, INSERT_VALUES, Xl));
-  PetscCall(VecGetArrayRead(Xl, &x));
+  PetscCall(LocalReference(d, x));
   for (size_t j = 0; j < d->jnode_a.size(); ++j) {
     bool on = true;
     for (int i = 0; i < 3; ++i) on = on && std::fabs(PetscRealPart(x[3 * d->jnode_a[j][i]]) - L / 2) < 1e-12;
@@ -82,8 +73,6 @@ PetscErrorCode BreakMiddle(FDEMDeformable d, PetscInt *broken) {
     for (auto &s : d->jstate[j]) s.D = 1, s.broken = true;
     ++n;
   }
-  PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(d->dm, &Xl));
   PetscCallMPI(MPIU_Allreduce(&n, broken, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)d->dm)));
   PetscFunctionReturn(0);
 }
