@@ -520,7 +520,7 @@ PetscErrorCode Engine::Search() {
     for (const auto *list : {&pairs_, &ss_, &st_})
       for (const auto &p : *list)
         for (int i : p)
-          if (i < nl) t[i] = 1, ++count[i];
+          if (i < nl) t[i] |= list != &ss_, ++count[i]; // an own sphere of a sphere-sphere pair is read and given its force without records
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->PairCounts(count.data() + first_[k]));
     for (const auto &s : send)
       for (PetscInt i : s) t[i] = 1;

@@ -12,7 +12,7 @@
 #pragma once
 #include <fdem/contact.h>
 #include <fdem/kernels/contact.hpp>
-#include <fdem/kernels/granular_batch.hpp>
+#include <fdem/kernels/granular_sweep.hpp>
 #include <petscsf.h>
 #include <petscts.h>
 
@@ -146,6 +146,17 @@ public:
     return nullptr;
   }
   virtual PetscErrorCode HistoryEnd() { return 0; }
+  // Spheres, without the vertex records: s[to[m]] = the state of own sphere primitive
+  // which[m] (centre, velocity, angular velocity, radius), and its force and torque f[from[m]]
+  // added to that sphere, for m < n. Only a kind that lists spheres is asked.
+  virtual PetscErrorCode SphereStates(int n, const int *which, const int *to, fdem::kernels::SphereState *s) {
+    (void)n, (void)which, (void)to, (void)s;
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "this body kind has no spheres");
+  }
+  virtual PetscErrorCode AddSphereForces(int n, const int *which, const int *from, const fdem::kernels::SphereSum *f) {
+    (void)n, (void)which, (void)from, (void)f;
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "this body kind has no spheres");
+  }
 };
 
 // The log events FDEMContactList, FDEMContactDetect (search, ghosts and cell search),
@@ -257,7 +268,7 @@ private:
   int                           nl_ = 0, ng_ = 0;
   std::vector<Primitive>        prim_, gprim_;
   std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
-  std::vector<std::vector<int>> touch_; // per adapter: its primitives in a pair here or ghosts elsewhere (increasing)
+  std::vector<std::vector<int>> touch_; // per adapter: its primitives with vertex records at an evaluation (increasing): in a pair here or ghosts elsewhere, but for own spheres met only by spheres (read and given their forces directly)
   PetscSF                       sf_ = nullptr; // one Vertices record per primitive
   std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
   std::vector<char>             made_;           // frames_[i] made at this evaluation
@@ -271,31 +282,20 @@ private:
   // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring
   // in a's slots (-1: none yet) and the pair's law (an index into gtable_; -1: none); and what
   // stays fixed while the pair lasts.
-  struct SpherePair {
-    int a, b, slot, law;
-  };
-  struct SpherePairConst {
-    std::int64_t key;   // the spring's key in a's slots
-    double       mstar; // effective mass
-    double       cn;    // Hooke: the normal damping coefficient m* gamma_n
-  };
+  using SpherePair      = fdem::kernels::SpherePair;
+  using SpherePairConst = fdem::kernels::SpherePairConst;
   std::vector<SpherePair>       sp_;
   std::vector<SpherePairConst>  spc_;
   std::vector<Vec3>             sps_;          // per pair: its spring while it has a slot (the slot's value since the last flush)
   std::vector<int>              sph_;          // per compact sphere: its primitive
+  std::vector<std::vector<int>> own_sph_, own_c_; // per adapter: its own spheres of sp_ (adapter's numbers) and their compact numbers
   std::vector<double>           sr_;           // per compact sphere: its radius
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
-  struct SphereNow {                           // a compact sphere at an evaluation, read together by a pair
-    Vec3   x, v, w;                              // centre, velocity, spin
-    double r;                                    // radius
-  };
-  struct SphereSum {                             // the forces on a compact sphere at an evaluation
-    Vec3 f, t;                                   // force, torque
-  };
+  using SphereNow = fdem::kernels::SphereState; // a compact sphere at an evaluation
+  using SphereSum = fdem::kernels::SphereSum;   // the forces on a compact sphere at an evaluation
   std::vector<SphereNow>        snow_;
   std::vector<SphereSum>        ssum_;
-  std::vector<int>              stouch_, spos_; // at an evaluation: the touching pairs of sp_, and each one's place in batch_
-  fdem::kernels::GranularBatch  batch_;
+  fdem::kernels::SphereSweep    sweep_;        // at an evaluation: what the sweep over sp_ found
   std::vector<fdem::kernels::GranularPair> gtable_;
   int                           gnmat_ = 0, gtag_ = 0;
   PetscReal                     time_ = 0, last_time_ = 0;

@@ -3,7 +3,7 @@
 // springs kept in the slots of the sphere whose owner computes the contact.
 #include "engine.hpp"
 #include "../util/guard.hpp"
-#include <fdem/kernels/granular_batch.hpp>
+#include <fdem/kernels/granular_sweep.hpp>
 #include <fdem/kernels/sphere_surface.hpp>
 
 #include <algorithm>
@@ -137,10 +137,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     //    pair keeps its slot from then on, takes a free one when it starts touching and frees
     //    it when it stops. Its spring is kept with the pair (sps_, in the pairs' order) and
     //    written to the slot at a flush: before the next search's pairs are made, and when the
-    //    state goes back to the swarm (FlushSprings, before a migration or a checkpoint). At each evaluation the centres, velocities and spins go to compact
-    //    arrays (a sphere's Vertices record is 96 bytes); the touching pairs are picked out,
-    //    their data laid out one array per quantity (GranularBatch), the law run over them in
-    //    vector instructions, and the forces summed per sphere in the order of the pairs.
+    //    state goes back to the swarm (FlushSprings, before a migration or a checkpoint). At
+    //    each evaluation the centres, velocities and spins go to compact arrays (a sphere's
+    //    Vertices record is 96 bytes), and one sweep over the pairs runs the law of the touching
+    //    ones and sums the forces per sphere in the order of the pairs.
     if (sp_fresh_) {
       WriteSprings(); // the old pairs' springs to their slots first (the numbering is still theirs)
       std::vector<int> comp(nl_ + ng_, -1);
@@ -180,6 +180,15 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         sp_[j]  = SpherePair{number(a), number(b), k, law};
         sps_[j] = k >= 0 ? Vec3(h[k].s[0], h[k].s[1], h[k].s[2]) : Vec3();
       }
+      // the own spheres by adapter: read and given their forces without the vertex records
+      own_sph_.assign(adapters_.size(), {});
+      own_c_.assign(adapters_.size(), {});
+      for (int c = 0; c < (int)sph_.size(); ++c)
+        if (sph_[c] < nl_) {
+          const int k = prim_[sph_[c]].kind;
+          own_sph_[k].push_back(sph_[c] - first_[k]);
+          own_c_[k].push_back(c);
+        }
       sp_fresh_ = false;
     }
     const int ns = (int)sph_.size();
@@ -188,104 +197,53 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     SphereNow *const sn = snow_.data();
     SphereSum *const su = ssum_.data();
     auto holder = [&](int c) { return slots(sph_[c]); }; // a holder is own; looked up when a contact starts or ends
-    for (int c = 0; c < ns; ++c) {
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      if (!own_c_[k].empty()) PetscCall(adapters_[k]->SphereStates((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), sn));
+    for (int c = 0; c < ns; ++c) { // the ghosts, from their records
       const int i = sph_[c];
-      sn[c] = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
+      if (i >= nl_) sn[c] = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
     }
-    // the touching pairs (picked without a branch on the outcome); a contact that opened frees its slot
-    stouch_.resize(sp_.size());
-    int  nt = 0, law0 = sp_.empty() ? 0 : sp_[0].law;
-    bool one_law = true;
-    for (size_t j = 0; j < sp_.size(); ++j) {
-      SpherePair  &q  = sp_[j];
-      const Vec3   d  = sn[q.a].x - sn[q.b].x;
-      const double rr = sn[q.a].r + sn[q.b].r;
-      const bool   t  = dot(d, d) < rr * rr;
-      stouch_[nt]     = (int)j;
-      nt += t;
-      one_law = one_law && (!t || q.law == law0);
-      if (!t && q.slot >= 0) holder(q.a)[q.slot] = HistorySlot{}, q.slot = -1;
-    }
-    // several laws: the batch in runs of one law, spos_ the place of each touching pair in it
-    std::vector<std::array<int, 3>> runs; // law, begin, end
-    if (!one_law) {
-      spos_.resize(nt);
-      std::vector<std::pair<int, int>> by(nt);
-      for (int m = 0; m < nt; ++m) by[m] = {sp_[stouch_[m]].law, m};
-      std::stable_sort(by.begin(), by.end(), [](const auto &u, const auto &w) { return u.first < w.first; });
-      for (int m = 0; m < nt; ++m) {
-        spos_[by[m].second] = m;
-        if (runs.empty() || runs.back()[0] != by[m].first) runs.push_back({by[m].first, m, m});
-        runs.back()[2] = m + 1;
-      }
-    }
-    // The batch is laid out, computed and summed a chunk of pairs at a time, so that its arrays
-    // stay in the cache (all of them at once would be ~280 bytes a touching pair). One law: the
-    // chunks follow the pairs' order; several: the whole batch at once, in runs of one law.
-    using GB               = fdem::kernels::GranularBatch;
-    constexpr int kChunk   = 256;
-    const int     capacity = one_law ? std::min(nt, kChunk) : nt;
-    batch_.Resize(capacity);
-    double *const bdx = batch_[GB::DX], *const bdy = batch_[GB::DY], *const bdz = batch_[GB::DZ], *const bra = batch_[GB::RA], *const brb = batch_[GB::RB];
-    double *const bvx = batch_[GB::VX], *const bvy = batch_[GB::VY], *const bvz = batch_[GB::VZ];
-    double *const bwa[3] = {batch_[GB::WAX], batch_[GB::WAY], batch_[GB::WAZ]}, *const bwb[3] = {batch_[GB::WBX], batch_[GB::WBY], batch_[GB::WBZ]};
-    double *const bs[3] = {batch_[GB::SX], batch_[GB::SY], batch_[GB::SZ]}, *const bm = batch_[GB::MSTAR], *const bcn = batch_[GB::CN];
-    auto lay = [&](int m, int o) { // touching pair m into the batch's entry o
-      const int   j = stouch_[m];
-      SpherePair &q = sp_[j];
-      const SphereNow &A = sn[q.a], &B = sn[q.b];
-      const Vec3       d = A.x - B.x, dv = A.v - B.v;
-      if (!(dot(d, d) > 0)) throw std::runtime_error(adapters_[P(sph_[q.a]).kind]->BodyName(P(sph_[q.a])) + " and " + adapters_[P(sph_[q.b]).kind]->BodyName(P(sph_[q.b])) + " have the same centre");
-      if (q.law < 0) Law(P(sph_[q.a]), P(sph_[q.b])); // throws: no law for these two
-      if (q.slot < 0) { // a new contact: a free slot
-        HistorySlot *h = holder(q.a);
-        for (int k = 0; h && k < kHistorySlots && q.slot < 0; ++k)
-          if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k, sps_[j] = Vec3();
-        if (h && q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
-      }
-      bdx[o] = d[0], bdy[o] = d[1], bdz[o] = d[2], bra[o] = A.r, brb[o] = B.r;
-      bvx[o] = dv[0], bvy[o] = dv[1], bvz[o] = dv[2];
-      for (int k = 0; k < 3; ++k) {
-        bwa[k][o] = A.w[k], bwb[k][o] = B.w[k];
-        bs[k][o]  = q.slot >= 0 ? sps_[j][k] : 0.0;
-      }
-      bm[o] = spc_[j].mstar, bcn[o] = spc_[j].cn;
-    };
-    const double *const bf[3] = {batch_[GB::FX], batch_[GB::FY], batch_[GB::FZ]}, *const bta[3] = {batch_[GB::TAX], batch_[GB::TAY], batch_[GB::TAZ]};
-    const double *const btb[3] = {batch_[GB::TBX], batch_[GB::TBY], batch_[GB::TBZ]}, *const ben = batch_[GB::ENERGY], *const bov = batch_[GB::OVERLAP];
-    auto sum = [&](int m, int o) { // the forces of touching pair m, in the batch's entry o, to its spheres
-      const int         j = stouch_[m];
+    // the pairs in one sweep (granular_sweep.hpp): each touching pair's law, its forces summed
+    // per sphere in the pairs' order; then what the sweep listed: a pair with no law or with
+    // both centres at one point is an error, a contact that opened frees its slot, one that
+    // started takes a free slot (its spring, advanced from zero, is kept if it gets one)
+    fdem::kernels::SphereContactSweep(gtable_.data(), dt, sn, sp_.data(), spc_.data(), sps_.data(), (int)sp_.size(), su, sweep_);
+    for (int j : sweep_.bad) {
       const SpherePair &q = sp_[j];
-      for (int k = 0; k < 3; ++k) {
-        su[q.a].f[k] += bf[k][o];
-        su[q.a].t[k] += bta[k][o];
-        su[q.b].f[k] -= bf[k][o];
-        su[q.b].t[k] += btb[k][o];
-      }
-      if (q.slot >= 0) {
-        for (int k = 0; k < 3; ++k) sps_[j][k] = bs[k][o];
-        seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
-      }
-      sums[0] += ben[o];
-      if (!checked_initial_) first(bov[o] / (0.5 * std::min(sn[q.a].r, sn[q.b].r)), sph_[q.a], sph_[q.b]); // deep: an overlap of half the smaller radius
-    };
-    if (one_law)
-      for (int m0 = 0; m0 < nt; m0 += kChunk) {
-        const int m1 = std::min(nt, m0 + kChunk);
-        for (int m = m0; m < m1; ++m) lay(m, m - m0);
-        fdem::kernels::GranularBatchForces(gtable_[law0], dt, batch_, 0, m1 - m0);
-        for (int m = m0; m < m1; ++m) sum(m, m - m0);
-      }
-    else {
-      for (int m = 0; m < nt; ++m) lay(m, spos_[m]);
-      for (const auto &r : runs) fdem::kernels::GranularBatchForces(gtable_[r[0]], dt, batch_, r[1], r[2]);
-      for (int m = 0; m < nt; ++m) sum(m, spos_[m]);
+      if (q.law < 0) Law(P(sph_[q.a]), P(sph_[q.b])); // throws: no law for these two
+      throw std::runtime_error(adapters_[P(sph_[q.a]).kind]->BodyName(P(sph_[q.a])) + " and " + adapters_[P(sph_[q.b]).kind]->BodyName(P(sph_[q.b])) + " have the same centre");
     }
+    for (int j : sweep_.opened) {
+      SpherePair &q = sp_[j];
+      holder(q.a)[q.slot] = HistorySlot{}, q.slot = -1;
+    }
+    for (int j : sweep_.started) {
+      SpherePair  &q = sp_[j];
+      HistorySlot *h = holder(q.a);
+      for (int k = 0; h && k < kHistorySlots && q.slot < 0; ++k)
+        if (!h[k].key) h[k] = HistorySlot{spc_[j].key, {0, 0, 0}}, q.slot = k;
+      if (h && q.slot < 0) ++overflow; // its spring restarts from zero at every evaluation
+    }
+    const int nt = (int)sweep_.touching.size();
+    sums[0] += sweep_.energy;
+    for (int j : sweep_.touching) { // the slots in use
+      const SpherePair &q = sp_[j];
+      if (q.slot >= 0) seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
+    }
+    if (!checked_initial_)
+      for (int j : sweep_.touching) { // deep: an overlap of half the smaller radius
+        const SpherePair &q = sp_[j];
+        const SphereNow  &A = sn[q.a], &B = sn[q.b];
+        first((A.r + B.r - norm(A.x - B.x)) / (0.5 * std::min(A.r, B.r)), sph_[q.a], sph_[q.b]);
+      }
     sums[1] += nt;
-    for (int c = 0; c < ns; ++c) {
-      Force(sph_[c])[0] += su[c].f;
-      Force(sph_[c])[1] += su[c].t;
-    }
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      if (!own_c_[k].empty()) PetscCall(adapters_[k]->AddSphereForces((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), su));
+    for (int c = 0; c < ns; ++c) // the ghosts' forces go back to their owners
+      if (sph_[c] >= nl_) {
+        Force(sph_[c])[0] += su[c].f;
+        Force(sph_[c])[1] += su[c].t;
+      }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
     //    triangles as one surface (one contact per touched face, edge or vertex)

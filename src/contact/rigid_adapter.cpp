@@ -157,6 +157,33 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to, fdem::kernels::SphereState *s) {
+  const RigidLayout L(rb_->n);
+  PetscFunctionBegin;
+  PetscCheck(u_ || n == 0, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: spheres need the rigid bodies' velocities, which this force evaluation did not provide");
+  for (int m = 0; m < n; ++m) {
+    const int      j = prim_body_[which[m]];
+    const PetscInt b = body_[j];
+    // I = I 1: omega = H / I
+    s[to[m]] = fdem::kernels::SphereState{ToVec3(L.x(q_, b)), ToVec3(L.v(u_, b)), (1.0 / rb_->inertia[3 * b]) * ToVec3(L.H(u_, b)), radius_[j]};
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RigidAdapter::AddSphereForces(int n, const int *which, const int *from, const fdem::kernels::SphereSum *f) {
+  const RigidLayout L(rb_->n);
+  PetscFunctionBegin;
+  for (int m = 0; m < n; ++m) {
+    const PetscInt             b = body_[prim_body_[which[m]]];
+    const fdem::kernels::SphereSum &g = f[from[m]];
+    for (int d = 0; d < 3; ++d) {
+      L.F(fm_, b)[d] += g.f[d];
+      L.M(fm_, b)[d] += g.t[d];
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) {
   const RigidLayout L(rb_->n);
   PetscFunctionBegin;

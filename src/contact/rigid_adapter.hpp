@@ -33,6 +33,8 @@ public:
   PetscErrorCode HistoryBegin() override;
   HistorySlot   *History(int i) override { return hist_ ? reinterpret_cast<HistorySlot *>(hist_ + fdem::model::kHistoryBytes * (size_t)body_[prim_body_[i]]) : nullptr; }
   PetscErrorCode HistoryEnd() override;
+  PetscErrorCode SphereStates(int n, const int *which, const int *to, fdem::kernels::SphereState *s) override;
+  PetscErrorCode AddSphereForces(int n, const int *which, const int *from, const fdem::kernels::SphereSum *f) override;
   // Keep each body's pair count (plus nothing else) in its swarm field "work", the weight of the
   // rigid model's partition (the rigid bodies' own contact does; a combined scene's does not).
   void           RecordWork(bool on) { record_work_ = on; }
