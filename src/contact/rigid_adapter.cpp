@@ -65,6 +65,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   sphere_.clear();
   skin_.clear();
   radius_.clear();
+  inv_inertia_.clear();
   prim_body_.clear();
   prim_tet_.clear();
   prims.clear();
@@ -88,6 +89,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       sphere_.push_back(1);
       skin_.push_back(-1);
       radius_.push_back(f.radius[b]);
+      inv_inertia_.push_back(1.0 / rb_->inertia[3 * b]);
       continue;
     }
     if (f.skin[b] < 0) continue;
@@ -111,6 +113,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
     sphere_.push_back(0);
     skin_.push_back(f.skin[b]);
     radius_.push_back(f.radius[b]);
+    inv_inertia_.push_back(0); // not used
   }
   PetscCall(fdem::model::RigidRestoreFields(rb_->sw, f));
   PetscFunctionReturn(0);
@@ -131,7 +134,7 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
       x[i][0]          = ToVec3(L.x(q_, b));
       if (v) {
         v[i][0] = ToVec3(L.v(u_, b));
-        v[i][1] = (1.0 / rb_->inertia[3 * b]) * ToVec3(L.H(u_, b)); // I = I 1: omega = H / I
+        v[i][1] = inv_inertia_[j] * ToVec3(L.H(u_, b)); // I = I 1: omega = H / I
       }
       continue;
     }
@@ -165,7 +168,7 @@ PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to
     const int      j = prim_body_[which[m]];
     const PetscInt b = body_[j];
     // I = I 1: omega = H / I
-    s[to[m]] = fdem::kernels::SphereState{ToVec3(L.x(q_, b)), ToVec3(L.v(u_, b)), (1.0 / rb_->inertia[3 * b]) * ToVec3(L.H(u_, b)), radius_[j]};
+    s[to[m]] = fdem::kernels::SphereState{ToVec3(L.x(q_, b)), ToVec3(L.v(u_, b)), inv_inertia_[j] * ToVec3(L.H(u_, b)), radius_[j]};
   }
   PetscFunctionReturn(0);
 }
@@ -217,21 +220,31 @@ PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertic
 PetscReal RigidAdapter::Move(size_t j) const {
   const RigidLayout  L(rb_->n);
   const PetscScalar *x = L.x(q_, body_[j]), *R = L.R(q_, body_[j]);
-  const PetscReal   *r  = &ref_[12 * j];
+  const PetscReal   *r = &refx_[3 * j], *r9 = &refR_[9 * j];
   PetscReal          dx = 0, dR = 0;
   for (int k = 0; k < 3; ++k) dx += PetscSqr(PetscRealPart(x[k]) - r[k]);
   if (sphere_[j]) return std::sqrt(dx); // a sphere's surface does not move as it turns
-  for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r[3 + k]);
+  for (int k = 0; k < 9; ++k) dR += PetscSqr(PetscRealPart(R[k]) - r9[k]);
   return std::sqrt(dx) + radius_[j] * std::sqrt(dR);
 }
 
 PetscErrorCode RigidAdapter::MoveRatio(PetscReal *ratio) {
+  const RigidLayout L(rb_->n);
+  PetscReal         worst = 0;
   PetscFunctionBegin;
-  *ratio = 0;
   for (size_t j = 0; j < body_.size() && j < margin_.size(); ++j) {
+    const PetscReal m = margin_[j];
+    if (sphere_[j]) { // the root and the division only for a new worst
+      const PetscScalar *x  = L.x(q_, body_[j]);
+      const PetscReal   *r  = &refx_[3 * j];
+      const PetscReal    d2 = PetscSqr(PetscRealPart(x[0]) - r[0]) + PetscSqr(PetscRealPart(x[1]) - r[1]) + PetscSqr(PetscRealPart(x[2]) - r[2]);
+      if (d2 > worst * worst * (m * m)) worst = m > 0 ? std::sqrt(d2) / m : PETSC_MAX_REAL;
+      continue;
+    }
     const PetscReal d = Move(j);
-    *ratio            = std::max(*ratio, margin_[j] > 0 ? d / margin_[j] : d > 0 ? PETSC_MAX_REAL : 0);
+    worst             = std::max(worst, m > 0 ? d / m : d > 0 ? PETSC_MAX_REAL : 0);
   }
+  *ratio = worst;
   PetscFunctionReturn(0);
 }
 
@@ -240,7 +253,7 @@ PetscErrorCode RigidAdapter::MoveRatio(PetscReal *ratio) {
 PetscErrorCode RigidAdapter::Margins(PetscReal half, PetscInt evaluations, PetscReal *m) {
   constexpr PetscReal kLookahead = 10;
   PetscFunctionBegin;
-  const bool seen = evaluations > 0 && ref_.size() == 12 * body_.size();
+  const bool seen = evaluations > 0 && refx_.size() == 3 * body_.size();
   margin_.assign(body_.size(), half);
   if (seen)
     for (size_t j = 0; j < body_.size(); ++j) margin_[j] = half + kLookahead * Move(j) / (PetscReal)evaluations;
@@ -251,10 +264,11 @@ PetscErrorCode RigidAdapter::Margins(PetscReal half, PetscInt evaluations, Petsc
 PetscErrorCode RigidAdapter::Searched() {
   const RigidLayout L(rb_->n);
   PetscFunctionBegin;
-  ref_.resize(12 * body_.size());
+  refx_.resize(3 * body_.size());
+  refR_.resize(9 * body_.size());
   for (size_t j = 0; j < body_.size(); ++j) {
-    for (int k = 0; k < 3; ++k) ref_[12 * j + k] = PetscRealPart(L.x(q_, body_[j])[k]);
-    for (int k = 0; k < 9; ++k) ref_[12 * j + 3 + k] = PetscRealPart(L.R(q_, body_[j])[k]);
+    for (int k = 0; k < 3; ++k) refx_[3 * j + k] = PetscRealPart(L.x(q_, body_[j])[k]);
+    for (int k = 0; k < 9; ++k) refR_[9 * j + k] = PetscRealPart(L.R(q_, body_[j])[k]);
   }
   PetscFunctionReturn(0);
 }

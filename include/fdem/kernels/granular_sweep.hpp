@@ -32,8 +32,7 @@ struct SpherePairOut {
 };
 
 // The law p (Hertz or Hooke; with rolling resistance or not) for one touching contact, the
-// tangential spring s advanced in place: GranularForce's arithmetic written without branches
-// (a choice between two computed values instead), so that a loop over contacts vectorizes.
+// tangential spring s advanced in place: GranularForce's arithmetic, inlined into the sweep.
 template <bool Hertz, bool Roll>
 inline __attribute__((always_inline)) SpherePairOut SpherePairLaw(const GranularPair &p, double dt, const SpherePairIn &c, double &sx, double &sy, double &sz) {
   SpherePairOut o;
@@ -69,17 +68,19 @@ inline __attribute__((always_inline)) SpherePairOut SpherePairLaw(const Granular
   const double dpx = ct * vtx, dpy = ct * vty, dpz = ct * vtz;
   double       ftx = -(kt * s0 + dpx), fty = -(kt * s1 + dpy), ftz = -(kt * s2 + dpz);
   const double fs2 = ftx * ftx + fty * fty + ftz * ftz, fn2 = fnx * fnx + fny * fny + fnz * fnz, fmax2 = p.mu * p.mu * fn2;
-  // Coulomb: beyond the limit the force is scaled to it and the spring cut back to match
-  const bool   slide = fs2 > fmax2;
-  const double fs = std::sqrt(fs2), scale = std::sqrt(fmax2) / (fs > 0 ? fs : 1.0);
-  const double ikt = 1.0 / (kt > 0 ? kt : 1.0);
-  const bool   cut = slide && kt > 0;
-  sx               = cut ? scale * (s0 + ikt * dpx) - ikt * dpx : s0;
-  sy               = cut ? scale * (s1 + ikt * dpy) - ikt * dpy : s1;
-  sz               = cut ? scale * (s2 + ikt * dpz) - ikt * dpz : s2;
-  ftx              = slide ? scale * ftx : ftx;
-  fty              = slide ? scale * fty : fty;
-  ftz              = slide ? scale * ftz : ftz;
+  // Coulomb: beyond the limit the force is scaled to it and the spring cut back to match (a
+  // branch: most contacts stick, and they skip two roots and two divisions)
+  if (fs2 > fmax2) {
+    const double scale = std::sqrt(fmax2) / std::sqrt(fs2);
+    if (kt > 0) {
+      const double ikt = 1.0 / kt;
+      s0 = scale * (s0 + ikt * dpx) - ikt * dpx;
+      s1 = scale * (s1 + ikt * dpy) - ikt * dpy;
+      s2 = scale * (s2 + ikt * dpz) - ikt * dpz;
+    }
+    ftx *= scale, fty *= scale, ftz *= scale;
+  }
+  sx = s0, sy = s1, sz = s2;
   const double Fx = fnx + ftx, Fy = fny + fty, Fz = fnz + ftz;
   double       mx = 0, my = 0, mz = 0; // rolling resistance on a
   if constexpr (Roll) {
