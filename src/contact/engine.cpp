@@ -120,7 +120,10 @@ Engine::Engine(MPI_Comm comm, const char *who) : comm_(comm), who_(who) {
   first_.push_back(0);
 }
 
-Engine::~Engine() { PetscSFDestroy(&sf_); }
+Engine::~Engine() {
+  PetscSFDestroy(&sf_);
+  if (vunit_ != MPI_DATATYPE_NULL) MPI_Type_free(&vunit_);
+}
 
 int Engine::AddAdapter(Adapter *a) {
   adapters_.push_back(a);
@@ -268,8 +271,8 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
   PetscCall(PetscLogEventBegin(EV_GHOST, 0, 0, 0, 0));
   if (x) {
     gx_.resize(ng_);
-    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, x_.data(), gx_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(sf_, vunit_, x_.data(), gx_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, vunit_, x_.data(), gx_.data(), MPI_REPLACE));
     if (shifted_) // periodic images: their vertices a period away
       for (int g = 0; g < ng_; ++g)
         for (auto &v : gx_[g])
@@ -277,8 +280,8 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
   }
   if (v) {
     gv_.resize(ng_);
-    PetscCall(PetscSFBcastBegin(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sf_, MPIU_REAL, v_.data(), gv_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
   }
   PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -440,14 +443,15 @@ PetscErrorCode Engine::Search() {
   }
   // 2. the SF (one Vertices record per primitive) and the ghosts' static records (a one-off SF)
   ng_ = (int)ghosts.size();
-  PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), &sf_));
+  if (vunit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), MPIU_REAL, &vunit_));
+  PetscCall(fdem::HaloSF(comm_, nl, ghosts, &sf_));
   {
-    PetscSF sfs = nullptr;
+    MPI_Datatype punit;
     gprim_.resize(ng_);
-    PetscCall(fdem::HaloSF(comm_, nl, ghosts, (PetscInt)sizeof(Primitive), &sfs));
-    PetscCall(PetscSFBcastBegin(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sfs, MPI_BYTE, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCall(PetscSFDestroy(&sfs));
+    PetscCall(fdem::HaloUnit((PetscInt)sizeof(Primitive), MPI_BYTE, &punit));
+    PetscCall(PetscSFBcastBegin(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCallMPI(MPI_Type_free(&punit));
   }
   PetscCall(UpdateGhosts(true, false));
   // 3. the candidate pairs among own and ghost primitives: boxes that overlap
@@ -658,8 +662,8 @@ PetscErrorCode Engine::Evaluate() {
   if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
-  PetscCall(PetscSFReduceBegin(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
-  PetscCall(PetscSFReduceEnd(sf_, MPIU_REAL, gf_.data(), f_.data(), MPI_SUM));
+  PetscCall(PetscSFReduceBegin(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
+  PetscCall(PetscSFReduceEnd(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
   for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
   PetscReal gsums[2];
   PetscCallMPI(MPI_Allreduce(sums, gsums, 2, MPIU_REAL, MPI_SUM, comm_));

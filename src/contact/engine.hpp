@@ -269,7 +269,8 @@ private:
   std::vector<Primitive>        prim_, gprim_;
   std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
   std::vector<std::vector<int>> touch_; // per adapter: its primitives with vertex records at an evaluation (increasing): in a pair here or ghosts elsewhere, but for own spheres met only by spheres (read and given their forces directly)
-  PetscSF                       sf_ = nullptr; // one Vertices record per primitive
+  PetscSF                       sf_ = nullptr; // one item per primitive: its Vertices record (vunit_) or its Primitive
+  MPI_Datatype                  vunit_ = MPI_DATATYPE_NULL; // a Vertices record as one MPI unit
   std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
   std::vector<char>             made_;           // frames_[i] made at this evaluation
   std::vector<std::array<double, 6>> cboxes_;    // per own and ghost primitive: its current box, at this evaluation
@@ -289,6 +290,7 @@ private:
   std::vector<Vec3>             sps_;          // per pair: its spring while it has a slot (the slot's value since the last flush)
   std::vector<int>              sph_;          // per compact sphere: its primitive
   std::vector<std::vector<int>> own_sph_, own_c_; // per adapter: its own spheres of sp_ (adapter's numbers) and their compact numbers
+  std::vector<int>              ghost_c_;       // the compact numbers of the ghost spheres
   std::vector<double>           sr_;           // per compact sphere: its radius
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
   using SphereNow = fdem::kernels::SphereState; // a compact sphere at an evaluation

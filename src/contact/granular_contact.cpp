@@ -181,14 +181,16 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
         sps_[j] = k >= 0 ? Vec3(h[k].s[0], h[k].s[1], h[k].s[2]) : Vec3();
       }
       // the own spheres by adapter: read and given their forces without the vertex records
+      // (the ghosts, ghost_c_, from their records)
       own_sph_.assign(adapters_.size(), {});
       own_c_.assign(adapters_.size(), {});
+      ghost_c_.clear();
       for (int c = 0; c < (int)sph_.size(); ++c)
         if (sph_[c] < nl_) {
           const int k = prim_[sph_[c]].kind;
           own_sph_[k].push_back(sph_[c] - first_[k]);
           own_c_[k].push_back(c);
-        }
+        } else ghost_c_.push_back(c);
       sp_fresh_ = false;
     }
     const int ns = (int)sph_.size();
@@ -199,9 +201,9 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     auto holder = [&](int c) { return slots(sph_[c]); }; // a holder is own; looked up when a contact starts or ends
     for (size_t k = 0; k < adapters_.size(); ++k)
       if (!own_c_[k].empty()) PetscCall(adapters_[k]->SphereStates((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), sn));
-    for (int c = 0; c < ns; ++c) { // the ghosts, from their records
+    for (int c : ghost_c_) {
       const int i = sph_[c];
-      if (i >= nl_) sn[c] = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
+      sn[c]       = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
     }
     // the pairs in one sweep (granular_sweep.hpp): each touching pair's law, its forces summed
     // per sphere in the pairs' order; then what the sweep listed: a pair with no law or with
@@ -226,10 +228,11 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     }
     const int nt = (int)sweep_.touching.size();
     sums[0] += sweep_.energy;
-    for (int j : sweep_.touching) { // the slots in use
-      const SpherePair &q = sp_[j];
-      if (q.slot >= 0) seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
-    }
+    if (!holders_valid_ || !holders_.empty()) // the slots in use, for the sweep of unseen slots below
+      for (int j : sweep_.touching) {
+        const SpherePair &q = sp_[j];
+        if (q.slot >= 0) seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
+      }
     if (!checked_initial_)
       for (int j : sweep_.touching) { // deep: an overlap of half the smaller radius
         const SpherePair &q = sp_[j];
@@ -239,11 +242,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[2], std::array<double, 3> &
     sums[1] += nt;
     for (size_t k = 0; k < adapters_.size(); ++k)
       if (!own_c_[k].empty()) PetscCall(adapters_[k]->AddSphereForces((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), su));
-    for (int c = 0; c < ns; ++c) // the ghosts' forces go back to their owners
-      if (sph_[c] >= nl_) {
-        Force(sph_[c])[0] += su[c].f;
-        Force(sph_[c])[1] += su[c].t;
-      }
+    for (int c : ghost_c_) { // the ghosts' forces go back to their owners
+      Force(sph_[c])[0] += su[c].f;
+      Force(sph_[c])[1] += su[c].t;
+    }
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
     //    triangles as one surface (one contact per touched face, edge or vertex)

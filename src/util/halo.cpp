@@ -26,15 +26,18 @@ PetscErrorCode fdem::HaloExchange(MPI_Comm comm, const std::vector<std::vector<P
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::HaloSF(MPI_Comm comm, PetscInt nroot, const std::vector<PetscSFNode> &ghosts, PetscInt unit, PetscSF *sf) {
-  const PetscInt           ng = (PetscInt)ghosts.size();
-  std::vector<PetscSFNode> remote(unit * (size_t)ng);
+PetscErrorCode fdem::HaloSF(MPI_Comm comm, PetscInt nroot, const std::vector<PetscSFNode> &ghosts, PetscSF *sf) {
   PetscFunctionBegin;
-  for (PetscInt i = 0; i < ng; ++i)
-    for (PetscInt k = 0; k < unit; ++k) remote[unit * (size_t)i + k] = {ghosts[i].rank, unit * ghosts[i].index + k};
   PetscCall(PetscSFDestroy(sf));
   PetscCall(PetscSFCreate(comm, sf));
-  PetscCall(PetscSFSetGraph(*sf, unit * nroot, unit * ng, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetGraph(*sf, nroot, (PetscInt)ghosts.size(), nullptr, PETSC_COPY_VALUES, const_cast<PetscSFNode *>(ghosts.data()), PETSC_COPY_VALUES));
   PetscCall(PetscSFSetUp(*sf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::HaloUnit(PetscInt count, MPI_Datatype base, MPI_Datatype *unit) {
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)count, base, unit));
+  PetscCallMPI(MPI_Type_commit(unit));
   PetscFunctionReturn(0);
 }
