@@ -562,7 +562,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   double cpu = cpu1 - cpu0, maxcpu; // the busiest rank's CPU time in the stepping (a loaded machine slows the wall clock)
   PetscCallMPI(MPI_Allreduce(&cpu, &maxcpu, 1, MPI_DOUBLE, MPI_MAX, comm));
   const PetscInt ran = step - prog.step0; // steps of this run (a restart starts at the checkpoint's)
-  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps (to step %" PetscInt_FMT "); wall time %.2f s (set-up %.2f s, stepping %.2f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.2f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, ran, step,
+  PetscCall(PetscPrintf(comm, "done: t = %.6g s in %" PetscInt_FMT " steps (to step %" PetscInt_FMT "); wall time %.2f s (set-up %.2f s, stepping %.3f s: %.1f steps/s, %.3g body-steps/s; stepping CPU time %.3f s on the busiest rank: %.3g body-steps/s/core)\n", (double)t, ran, step,
                         w1 - w0, wbuild - w0, run, run > 0 ? ran / run : 0.0, run > 0 ? ran * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? ran * (double)nbodies / (maxcpu * size) : 0.0));
   PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g, fracture %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
                         b.fracture, b.dissipated, maxdP));

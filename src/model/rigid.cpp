@@ -86,22 +86,32 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
   rb->FM.assign(6 * n, 0.0);
   for (const auto &term : rb->forces)
     if (term.model) PetscCall(term.model(rb, t, q, rb->FM.data(), term.ctx));
+  bool body_terms = false; // a user's per-body force function
+  for (const auto &term : rb->forces) body_terms = body_terms || term.body;
+  const bool       keep_load = (PetscInt)rb->load.size() == 3 * n;
+  const PetscReal *FM = rb->FM.data(), *mass = rb->mass.data();
+  const PetscInt  *fixed = rb->fixed.data();
   for (PetscInt b = 0; b < n; ++b) {
     PetscReal F[3], M[3];
     for (int k = 0; k < 3; ++k) {
-      F[k] = rb->mass[b] * rb->g[k] + PetscRealPart(L.F(rb->FM.data(), b)[k]);
-      M[k] = PetscRealPart(L.M(rb->FM.data(), b)[k]);
+      F[k] = mass[b] * rb->g[k] + PetscRealPart(L.F(FM, b)[k]);
+      M[k] = PetscRealPart(L.M(FM, b)[k]);
     }
-    for (const auto &term : rb->forces)
-      if (term.body) PetscCall(term.body(rb->ids[b], t, L.x(q, b), L.R(q, b), nullptr, nullptr, F, M, term.ctx));
-    if ((PetscInt)rb->load.size() == 3 * n)
+    if (body_terms)
+      for (const auto &term : rb->forces)
+        if (term.body) PetscCall(term.body(rb->ids[b], t, L.x(q, b), L.R(q, b), nullptr, nullptr, F, M, term.ctx));
+    if (keep_load)
       for (int k = 0; k < 3; ++k) rb->load[3 * b + k] = F[k];
-    for (int k = 0; k < 3; ++k) {
-      L.F(a, b)[k] = rb->fixed[b] ? 0.0 : F[k] / rb->mass[b];
-      L.M(a, b)[k] = rb->fixed[b] ? 0.0 : M[k];
+    if (fixed[b]) {
+      for (int k = 0; k < 3; ++k) L.F(a, b)[k] = L.M(a, b)[k] = 0.0;
+      if (u)
+        for (int k = 0; k < 3; ++k) rb->power -= F[k] * PetscRealPart(L.v(u, b)[k]); // reaction R = -F
+      continue;
     }
-    if (rb->fixed[b] && u)
-      for (int k = 0; k < 3; ++k) rb->power -= F[k] * PetscRealPart(L.v(u, b)[k]); // reaction R = -F
+    for (int k = 0; k < 3; ++k) {
+      L.F(a, b)[k] = F[k] / mass[b];
+      L.M(a, b)[k] = M[k];
+    }
   }
   if (u) PetscCall(VecRestoreArrayRead(rb->U, &u));
   PetscCall(VecRestoreArray(A, &a));
