@@ -269,20 +269,19 @@ PetscErrorCode Engine::ListAll() {
 PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_GHOST, 0, 0, 0, 0));
+  // both exchanges in flight at once
+  if (x) gx_.resize(ng_);
+  if (v) gv_.resize(ng_);
+  if (x) PetscCall(PetscSFBcastBegin(sf_, vunit_, x_.data(), gx_.data(), MPI_REPLACE));
+  if (v) PetscCall(PetscSFBcastBegin(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
   if (x) {
-    gx_.resize(ng_);
-    PetscCall(PetscSFBcastBegin(sf_, vunit_, x_.data(), gx_.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(sf_, vunit_, x_.data(), gx_.data(), MPI_REPLACE));
     if (shifted_) // periodic images: their vertices a period away
       for (int g = 0; g < ng_; ++g)
-        for (auto &v : gx_[g])
-          for (int k = 0; k < 3; ++k) v[k] += gshift_[g][k];
+        for (auto &p : gx_[g])
+          for (int k = 0; k < 3; ++k) p[k] += gshift_[g][k];
   }
-  if (v) {
-    gv_.resize(ng_);
-    PetscCall(PetscSFBcastBegin(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
-  }
+  if (v) PetscCall(PetscSFBcastEnd(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
   PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -595,7 +594,7 @@ PetscErrorCode Engine::Evaluate() {
   for (size_t k = 0; k < adapters_.size(); ++k)
     for (int i : touch_[k]) f_[first_[k] + i] = zero;
   std::fill(gf_.begin(), gf_.end(), zero);
-  PetscReal             sums[2] = {0, 0}; // energy, active pairs
+  PetscReal             sums[3] = {0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot
   std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
   const PetscReal       pen = par_.penalty;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
@@ -665,8 +664,12 @@ PetscErrorCode Engine::Evaluate() {
   PetscCall(PetscSFReduceBegin(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
   PetscCall(PetscSFReduceEnd(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
   for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
-  PetscReal gsums[2];
-  PetscCallMPI(MPI_Allreduce(sums, gsums, 2, MPIU_REAL, MPI_SUM, comm_));
+  PetscReal gsums[3];
+  PetscCallMPI(MPI_Allreduce(sums, gsums, 3, MPIU_REAL, MPI_SUM, comm_));
+  const PetscInt gover = (PetscInt)gsums[2];
+  if (gover > 0 && hist_overflow_ == 0)
+    PetscCall(PetscPrintf(comm_, "WARNING %s: %" PetscInt_FMT " granular contacts found no free slot for their tangential spring (%d per sphere); they restart from zero at every step\n", who_.c_str(), gover, kHistorySlots));
+  hist_overflow_ += gover;
   stats_.energy       = gsums[0];
   stats_.active_pairs = (PetscInt)gsums[1];
   stats_.evaluations++;

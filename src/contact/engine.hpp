@@ -249,7 +249,8 @@ private:
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);
   // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
-  PetscErrorCode GranularForces(PetscReal sums[2], std::array<double, 3> &deep);
+  // sums: energy, touching pairs, contacts without a free spring slot (added to)
+  PetscErrorCode GranularForces(PetscReal sums[3], std::array<double, 3> &deep);
   const fdem::kernels::GranularPair *Law(const Primitive &a, const Primitive &b) const;
   Vertices      &Force(int i) { return i < nl_ ? f_[i] : gf_[i - nl_]; }
   const Tet4    &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }
