@@ -66,7 +66,7 @@ GranularResult GranularForce(const GranularPair &p, const GranularContact &c, do
 
 // The elastic energy of a contact (J): the normal spring's (Hooke 1/2 kn d^2, Hertz
 // 8/15 E* a d^2 with a = sqrt(R* d)) and the tangential spring's (1/2 kt s.s, Hertz kt = 8 G* a).
-// GranularBatchForces computes the same in its own loop.
+// SphereContactSweep (granular_sweep.hpp) computes the same in its own loop.
 inline double GranularElasticEnergy(const GranularPair &p, double overlap, double rstar, const Vec3 &s) {
   if (p.law == GranularLaw::Hooke) return 0.5 * p.kn * overlap * overlap + 0.5 * p.kt * dot(s, s);
   const double a = std::sqrt(rstar * overlap);

@@ -14,7 +14,7 @@
 
 namespace fdem::kernels {
 
-// One sphere-sphere contact's inputs and outputs (the fields of GranularBatch, for one contact).
+// One sphere-sphere contact's inputs and outputs.
 struct SpherePairIn {
   double dx, dy, dz;    // centre of a minus centre of b (m); must not be zero
   double ra, rb;        // radii (m)
