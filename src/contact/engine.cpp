@@ -122,7 +122,8 @@ Engine::Engine(MPI_Comm comm, const char *who) : comm_(comm), who_(who) {
 
 Engine::~Engine() {
   PetscSFDestroy(&sf_);
-  if (vunit_ != MPI_DATATYPE_NULL) MPI_Type_free(&vunit_);
+  for (MPI_Datatype *t : {&vunit_, &sunit_, &funit_})
+    if (*t != MPI_DATATYPE_NULL) MPI_Type_free(t);
 }
 
 int Engine::AddAdapter(Adapter *a) {
@@ -247,10 +248,12 @@ PetscErrorCode Engine::ListAll() {
   PetscInt np = nl_;
   PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
   {
-    PetscBool mine = PETSC_FALSE, any;
-    for (const auto &q : prim_) mine = (PetscBool)(mine || q.shape == kSphere);
+    PetscBool mine = PETSC_FALSE, any, other = PETSC_FALSE, anyother;
+    for (const auto &q : prim_) mine = (PetscBool)(mine || q.shape == kSphere), other = (PetscBool)(other || q.shape != kSphere);
     PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
-    spheres_ = any;
+    PetscCallMPI(MPI_Allreduce(&other, &anyother, 1, MPIU_BOOL, MPI_LOR, comm_));
+    spheres_      = any;
+    sphere_only_ = any && !anyother;
   }
   if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
     PetscReal g;
@@ -282,6 +285,24 @@ PetscErrorCode Engine::UpdateGhosts(bool x, bool v) {
           for (int k = 0; k < 3; ++k) p[k] += gshift_[g][k];
   }
   if (v) PetscCall(PetscSFBcastEnd(sf_, vunit_, v_.data(), gv_.data(), MPI_REPLACE));
+  PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// Sphere-only: the states of the own spheres that are ghosts somewhere, straight from their
+// adapters, to the ghosts (gs_; periodic images shifted); no vertex records.
+PetscErrorCode Engine::UpdateSphereGhosts() {
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(EV_GHOST, 0, 0, 0, 0));
+  rs_.resize(nl_);
+  gs_.resize(ng_);
+  for (size_t k = 0; k < adapters_.size(); ++k)
+    if (!exp_i_[k].empty()) PetscCall(adapters_[k]->SphereStates((int)exp_i_[k].size(), exp_sph_[k].data(), exp_i_[k].data(), rs_.data()));
+  PetscCall(PetscSFBcastBegin(sf_, sunit_, rs_.data(), gs_.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf_, sunit_, rs_.data(), gs_.data(), MPI_REPLACE));
+  if (shifted_)
+    for (int g = 0; g < ng_; ++g)
+      for (int k = 0; k < 3; ++k) gs_[g].x[k] += gshift_[g][k];
   PetscCall(PetscLogEventEnd(EV_GHOST, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -440,9 +461,21 @@ PetscErrorCode Engine::Search() {
     for (auto &l : send)
       for (PetscInt &i : l) i /= 27;
   }
+  // the own primitives that are ghosts somewhere, by adapter (the sphere-only exchange fills their states)
+  {
+    std::vector<char> out(nl, 0);
+    for (const auto &l : send)
+      for (PetscInt i : l) out[i] = 1;
+    exp_sph_.assign(adapters_.size(), {});
+    exp_i_.assign(adapters_.size(), {});
+    for (int i = 0; i < nl; ++i)
+      if (out[i]) exp_sph_[prim_[i].kind].push_back(i - first_[prim_[i].kind]), exp_i_[prim_[i].kind].push_back(i);
+  }
   // 2. the SF (one Vertices record per primitive) and the ghosts' static records (a one-off SF)
   ng_ = (int)ghosts.size();
   if (vunit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(Vertices) / sizeof(PetscReal)), MPIU_REAL, &vunit_));
+  if (sunit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(SphereNow) / sizeof(PetscReal)), MPIU_REAL, &sunit_));
+  if (funit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(SphereSum) / sizeof(PetscReal)), MPIU_REAL, &funit_));
   PetscCall(fdem::HaloSF(comm_, nl, ghosts, &sf_));
   {
     MPI_Datatype punit;
@@ -584,16 +617,21 @@ PetscErrorCode Engine::Evaluate() {
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
     PetscCall(Search());
   }
-  for (size_t k = 0; k < adapters_.size(); ++k)
-    if (!search || with_v_) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], with_v_ ? v_.data() + first_[k] : nullptr));
-  PetscCall(UpdateGhosts(!search, with_v_));
+  if (sphere_only_) PetscCall(UpdateSphereGhosts()); // no vertex records: the spheres' states go to their ghosts
+  else {
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      if (!search || with_v_) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], with_v_ ? v_.data() + first_[k] : nullptr));
+    PetscCall(UpdateGhosts(!search, with_v_));
+  }
 
   // the pair loop: potential force both ways, damping and friction; forces per vertex
   PetscCall(PetscLogEventBegin(EV_FORCE, 0, 0, 0, 0));
   const Vertices zero{};
-  for (size_t k = 0; k < adapters_.size(); ++k)
-    for (int i : touch_[k]) f_[first_[k] + i] = zero;
-  std::fill(gf_.begin(), gf_.end(), zero);
+  if (!sphere_only_) {
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      for (int i : touch_[k]) f_[first_[k] + i] = zero;
+    std::fill(gf_.begin(), gf_.end(), zero);
+  }
   PetscReal             sums[3] = {0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot
   std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
   const PetscReal       pen = par_.penalty;
@@ -661,9 +699,17 @@ PetscErrorCode Engine::Evaluate() {
   if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
-  PetscCall(PetscSFReduceBegin(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
-  PetscCall(PetscSFReduceEnd(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
-  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
+  if (sphere_only_) {
+    fs_.assign(nl_, SphereSum{});
+    PetscCall(PetscSFReduceBegin(sf_, funit_, gfs_.data(), fs_.data(), MPI_SUM));
+    PetscCall(PetscSFReduceEnd(sf_, funit_, gfs_.data(), fs_.data(), MPI_SUM));
+    for (size_t k = 0; k < adapters_.size(); ++k)
+      if (!exp_i_[k].empty()) PetscCall(adapters_[k]->AddSphereForces((int)exp_i_[k].size(), exp_sph_[k].data(), exp_i_[k].data(), fs_.data()));
+  } else {
+    PetscCall(PetscSFReduceBegin(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
+    PetscCall(PetscSFReduceEnd(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
+  }
   PetscReal gsums[3];
   PetscCallMPI(MPI_Allreduce(sums, gsums, 3, MPIU_REAL, MPI_SUM, comm_));
   const PetscInt gover = (PetscInt)gsums[2];

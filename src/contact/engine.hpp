@@ -248,6 +248,7 @@ private:
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);
+  PetscErrorCode UpdateSphereGhosts();
   // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
   // sums: energy, touching pairs, contacts without a free spring slot (added to)
   PetscErrorCode GranularForces(PetscReal sums[3], std::array<double, 3> &deep);
@@ -272,6 +273,14 @@ private:
   std::vector<std::vector<int>> touch_; // per adapter: its primitives with vertex records at an evaluation (increasing): in a pair here or ghosts elsewhere, but for own spheres met only by spheres (read and given their forces directly)
   PetscSF                       sf_ = nullptr; // one item per primitive: its Vertices record (vunit_) or its Primitive
   MPI_Datatype                  vunit_ = MPI_DATATYPE_NULL; // a Vertices record as one MPI unit
+  MPI_Datatype                  sunit_ = MPI_DATATYPE_NULL, funit_ = MPI_DATATYPE_NULL; // a SphereNow, a SphereSum
+  // Every primitive on every rank a sphere: no vertex records at an evaluation. The own spheres
+  // that are ghosts somewhere (exp_: adapter's numbers, primitive numbers) send their states
+  // (rs_, per own primitive) to their ghosts (gs_), which send their forces (gfs_) back (fs_).
+  bool                          sphere_only_ = false;
+  std::vector<std::vector<int>> exp_sph_, exp_i_;
+  std::vector<fdem::kernels::SphereState> rs_, gs_;
+  std::vector<fdem::kernels::SphereSum>   fs_, gfs_;
   std::vector<fdem::kernels::TetFrame> frames_; // per own and ghost primitive, at this evaluation
   std::vector<char>             made_;           // frames_[i] made at this evaluation
   std::vector<std::array<double, 6>> cboxes_;    // per own and ghost primitive: its current box, at this evaluation

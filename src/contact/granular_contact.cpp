@@ -201,9 +201,9 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     auto holder = [&](int c) { return slots(sph_[c]); }; // a holder is own; looked up when a contact starts or ends
     for (size_t k = 0; k < adapters_.size(); ++k)
       if (!own_c_[k].empty()) PetscCall(adapters_[k]->SphereStates((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), sn));
-    for (int c : ghost_c_) {
+    for (int c : ghost_c_) { // from the sphere exchange, or from their records
       const int i = sph_[c];
-      sn[c]       = SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
+      sn[c]       = sphere_only_ ? gs_[i - nl_] : SphereNow{X(i)[0], V(i)[0], V(i)[1], sr_[c]};
     }
     // the pairs in one sweep (granular_sweep.hpp): each touching pair's law, its forces summed
     // per sphere in the pairs' order; then what the sweep listed: a pair with no law or with
@@ -242,7 +242,12 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     sums[1] += nt;
     for (size_t k = 0; k < adapters_.size(); ++k)
       if (!own_c_[k].empty()) PetscCall(adapters_[k]->AddSphereForces((int)own_c_[k].size(), own_sph_[k].data(), own_c_[k].data(), su));
+    if (sphere_only_) gfs_.assign(ng_, SphereSum{});
     for (int c : ghost_c_) { // the ghosts' forces go back to their owners
+      if (sphere_only_) {
+        gfs_[sph_[c] - nl_] = su[c];
+        continue;
+      }
       Force(sph_[c])[0] += su[c].f;
       Force(sph_[c])[1] += su[c].t;
     }
