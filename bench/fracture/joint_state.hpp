@@ -1,10 +1,13 @@
 // Shared by the fracture benches: a joint state loaded into a fracturable model the way a
 // checkpoint's is (FDEMDeformableLoadJointState): every third joint broken, every joint, or
 // none, as `every` says (a joint j is broken when every > 0 and j % every == 0; its three
-// points get damage 1), the dissipated energies 0; written to `file` and read back.
+// points get damage 1), the dissipated energies 0; written to `file` (a scratch file in the
+// working directory), read back and removed.
 #pragma once
 #include <fdem/deformable.h>
 #include <petscviewerhdf5.h>
+
+#include <cstdio>
 
 static inline PetscErrorCode LoadJointDamage(FDEMDeformable d, PetscInt joints, PetscInt every, const char *file) {
   Vec         D, E;
@@ -27,6 +30,10 @@ static inline PetscErrorCode LoadJointDamage(FDEMDeformable d, PetscInt joints, 
   PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_READ, &v));
   PetscCall(FDEMDeformableLoadJointState(d, v));
   PetscCall(PetscViewerDestroy(&v));
+  PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD)); // every rank has closed it
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  if (rank == 0) std::remove(file);
   PetscCall(VecDestroy(&D));
   PetscCall(VecDestroy(&E));
   PetscFunctionReturn(0);
