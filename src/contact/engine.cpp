@@ -700,7 +700,9 @@ PetscErrorCode Engine::Evaluate() {
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
   if (sphere_only_) {
-    fs_.assign(nl_, SphereSum{});
+    fs_.resize(nl_); // the reduction adds into the exported spheres' entries only: zero those
+    for (const auto &l : exp_i_)
+      for (int i : l) fs_[i] = SphereSum{};
     PetscCall(PetscSFReduceBegin(sf_, funit_, gfs_.data(), fs_.data(), MPI_SUM));
     PetscCall(PetscSFReduceEnd(sf_, funit_, gfs_.data(), fs_.data(), MPI_SUM));
     for (size_t k = 0; k < adapters_.size(); ++k)
