@@ -43,9 +43,9 @@ void Scalar(const GranularPair &p, double dt, const Case &k, Vec3 &F, Vec3 &Ta, 
 
 double Rel(const Vec3 &a, const Vec3 &b, double scale) { return norm(a - b) / scale; }
 
-// Each case is a pair of its own two spheres (2i, 2i + 1), with a slot (its spring given):
-// what the sweep sums on each sphere is the scalar law's force and torques.
-void Compare(const GranularPair &p, double spin, double slip, int *sliding) {
+// Each case is a pair of its own two spheres (2i, 2i + 1), with a slot (its spring given) and
+// the law laws[law(i)]: what the sweep sums on each sphere is the scalar law's force and torques.
+void Compare(const std::vector<GranularPair> &laws, int (*law)(int), double spin, double slip, int *sliding) {
   std::mt19937                     rng(7);
   std::uniform_real_distribution<> u(-1, 1), pos(0.2, 1);
   const int                        n  = 200;
@@ -67,18 +67,19 @@ void Compare(const GranularPair &p, double spin, double slip, int *sliding) {
     const Vec3 xb(u(rng), u(rng), u(rng)), vb(u(rng), u(rng), u(rng));
     s[2 * i]     = SphereState{xb + k.d, vb + k.dv, k.wa, k.ra};
     s[2 * i + 1] = SphereState{xb, vb, k.wb, k.rb};
-    pairs[i]     = SpherePair{2 * i, 2 * i + 1, 0, 0};
-    pc[i]        = SpherePairConst{1, k.m, k.m * p.gamma_n};
+    pairs[i]     = SpherePair{2 * i, 2 * i + 1, 0, law(i)};
+    pc[i]        = SpherePairConst{1, k.m, k.m * laws[law(i)].gamma_n};
     springs[i]   = k.s;
   }
   SphereSweep out;
-  SphereContactSweep(&p, dt, s.data(), pairs.data(), pc.data(), springs.data(), n, sum.data(), out);
+  SphereContactSweep(laws.data(), dt, s.data(), pairs.data(), pc.data(), springs.data(), n, sum.data(), out);
   ASSERT_EQ((int)out.touching.size(), n);
   EXPECT_TRUE(out.started.empty() && out.opened.empty() && out.bad.empty());
   double energy = 0;
   for (int i = 0; i < n; ++i) {
-    Vec3   Fs, Tas, Tbs, ss;
-    double es;
+    const GranularPair &p = laws[law(i)];
+    Vec3                Fs, Tas, Tbs, ss;
+    double              es;
     // the centres went through a sum: the scalar law sees the same difference
     Case k = cases[i];
     k.d    = s[2 * i].x - s[2 * i + 1].x;
@@ -98,6 +99,14 @@ void Compare(const GranularPair &p, double spin, double slip, int *sliding) {
   }
   EXPECT_LT(std::fabs(out.energy - energy), 1e-12 * energy);
 }
+
+int One(int) { return 0; }
+int Mixed(int i) { // runs of 1, 2, 3, 4, 5, 1, 2, ... pairs, the laws in turn
+  int k = 0, run = 1;
+  while (i >= run) i -= run, ++k, run = run % 5 + 1;
+  return k % 4;
+}
+void Compare(const GranularPair &p, double spin, double slip, int *sliding) { Compare({p}, One, spin, slip, sliding); }
 
 GranularPair Hooke(double mu_roll) {
   GranularPair p;
@@ -128,6 +137,17 @@ TEST(GranularSweep, RollingResistanceEqualsScalar) {
   int sliding = 0;
   Compare(Hooke(0.05), 50, 1e-4, &sliding);
   Compare(Hertz(0.05), 50, 1e-4, &sliding);
+  EXPECT_GT(sliding, 0);
+}
+
+// The sweep runs touching pairs four at a time while they share a law: runs of one to five
+// pairs of each of four laws (Hooke and Hertz, with and without rolling resistance) in one
+// sweep, so that groups are cut short by a change of law, and rolling lanes without spin.
+TEST(GranularSweep, LawsMixedInOneSweep) {
+  const std::vector<GranularPair> laws{Hooke(0), Hertz(0.05), Hooke(0.05), Hertz(0)};
+  int                             sliding = 0;
+  Compare(laws, Mixed, 0, 1e-6, &sliding);
+  Compare(laws, Mixed, 10, 1e-3, &sliding);
   EXPECT_GT(sliding, 0);
 }
 

@@ -14,93 +14,118 @@
 
 namespace fdem::kernels {
 
-// One sphere-sphere contact's inputs and outputs.
-struct SpherePairIn {
-  double dx, dy, dz;    // centre of a minus centre of b (m); must not be zero
-  double ra, rb;        // radii (m)
-  double vx, vy, vz;    // velocity of a minus velocity of b (m/s)
-  double wax, way, waz; // angular velocity of a (rad/s)
-  double wbx, wby, wbz; // angular velocity of b (rad/s)
-  double mstar, cn;     // effective mass (kg); Hooke: the normal damping coefficient m* gamma_n (N s/m)
-};
-struct SpherePairOut {
-  double fx, fy, fz;    // force on a (N); b gets minus it
-  double tax, tay, taz; // torque on a (N m)
-  double tbx, tby, tbz; // torque on b (N m)
-  double energy;        // elastic energy, normal and tangential (J)
-  double overlap;       // r_a + r_b - |d| (m)
-};
+// The arithmetic below is written once for a number type T: double (one contact) or Lanes4
+// (four contacts side by side, a GCC vector of four doubles: one AVX2 instruction on each, two
+// SSE2 instructions without AVX2). Comparisons give a mask (bool, or a vector of all-ones and
+// zeros per lane) and Select(mask, a, b) picks per lane, so that a contact that slides and one
+// that sticks can share the four lanes; a lane not picked never computes a root of a negative
+// number or a division by zero.
+typedef double Lanes4 __attribute__((vector_size(32)));
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi" // Lanes4 by value, to here: all inlined, so no call passes one
+inline __attribute__((always_inline)) double Splat(double a, double) { return a; }
+inline __attribute__((always_inline)) Lanes4 Splat(double a, Lanes4) { return Lanes4{a, a, a, a}; }
+inline __attribute__((always_inline)) double Sqrt(double a) { return std::sqrt(a); }
+inline __attribute__((always_inline)) Lanes4 Sqrt(Lanes4 a) { return Lanes4{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])}; }
+inline __attribute__((always_inline)) bool Any(bool m) { return m; }
+template <class M> inline __attribute__((always_inline)) bool Any(M m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+template <class M> inline __attribute__((always_inline)) double Select(M m, double a, double b) { return m ? a : b; }
+template <class M> inline __attribute__((always_inline)) Lanes4 Select(M m, Lanes4 a, Lanes4 b) { return m ? a : b; }
 
-// The law p (Hertz or Hooke; with rolling resistance or not) for one touching contact, the
-// tangential spring s advanced in place: GranularForce's arithmetic, inlined into the sweep.
-template <bool Hertz, bool Roll>
-inline __attribute__((always_inline)) SpherePairOut SpherePairLaw(const GranularPair &p, double dt, const SpherePairIn &c, double &sx, double &sy, double &sz) {
-  SpherePairOut o;
-  const double  d2 = c.dx * c.dx + c.dy * c.dy + c.dz * c.dz;
-  const double  dist = std::sqrt(d2), inv = 1.0 / dist;
-  const double  nx = c.dx * inv, ny = c.dy * inv, nz = c.dz * inv;
-  const double  ov = c.ra + c.rb - dist, rstar = c.ra * c.rb / (c.ra + c.rb);
+// One sphere-sphere contact's inputs and outputs (T = double), or four contacts' (T = Lanes4).
+template <class T>
+struct SpherePairInT {
+  T dx, dy, dz;    // centre of a minus centre of b (m); must not be zero
+  T ra, rb;        // radii (m)
+  T vx, vy, vz;    // velocity of a minus velocity of b (m/s)
+  T wax, way, waz; // angular velocity of a (rad/s)
+  T wbx, wby, wbz; // angular velocity of b (rad/s)
+  T mstar, cn;     // effective mass (kg); Hooke: the normal damping coefficient m* gamma_n (N s/m)
+};
+template <class T>
+struct SpherePairOutT {
+  T fx, fy, fz;    // force on a (N); b gets minus it
+  T tax, tay, taz; // torque on a (N m)
+  T tbx, tby, tbz; // torque on b (N m)
+  T energy;        // elastic energy, normal and tangential (J)
+  T overlap;       // r_a + r_b - |d| (m)
+};
+using SpherePairIn  = SpherePairInT<double>;
+using SpherePairOut = SpherePairOutT<double>;
+
+// The law p (Hertz or Hooke; with rolling resistance or not) for touching contacts, the
+// tangential springs s advanced in place: GranularForce's arithmetic, inlined into the sweep.
+template <bool Hertz, bool Roll, class T>
+inline __attribute__((always_inline)) SpherePairOutT<T> SpherePairLaw(const GranularPair &p, double dt, const SpherePairInT<T> &c, T &sx, T &sy, T &sz) {
+  SpherePairOutT<T> o;
+  const T           one = Splat(1.0, c.dx), zero = Splat(0.0, c.dx);
+  const T           d2 = c.dx * c.dx + c.dy * c.dy + c.dz * c.dz;
+  const T           dist = Sqrt(d2), inv = 1.0 / dist;
+  const T           nx = c.dx * inv, ny = c.dy * inv, nz = c.dz * inv;
+  const T           ov = c.ra + c.rb - dist, rstar = c.ra * c.rb / (c.ra + c.rb);
   // relative velocity of the contact points: v_a - v_b - (r_a w_a + r_b w_b) x n
-  const double ux = c.ra * c.wax + c.rb * c.wbx, uy = c.ra * c.way + c.rb * c.wby, uz = c.ra * c.waz + c.rb * c.wbz;
-  const double rvx = c.vx - (uy * nz - uz * ny), rvy = c.vy - (uz * nx - ux * nz), rvz = c.vz - (ux * ny - uy * nx);
-  const double vnn = rvx * nx + rvy * ny + rvz * nz;
-  const double vnx = vnn * nx, vny = vnn * ny, vnz = vnn * nz;
-  const double vtx = rvx - vnx, vty = rvy - vny, vtz = rvz - vnz;
-  double       knd, cn, kt, ct, a = 0;
+  const T ux = c.ra * c.wax + c.rb * c.wbx, uy = c.ra * c.way + c.rb * c.wby, uz = c.ra * c.waz + c.rb * c.wbz;
+  const T rvx = c.vx - (uy * nz - uz * ny), rvy = c.vy - (uz * nx - ux * nz), rvz = c.vz - (ux * ny - uy * nx);
+  const T vnn = rvx * nx + rvy * ny + rvz * nz;
+  const T vnx = vnn * nx, vny = vnn * ny, vnz = vnn * nz;
+  const T vtx = rvx - vnx, vty = rvy - vny, vtz = rvz - vnz;
+  T       knd, cn, kt, ct, a = zero;
   if constexpr (Hertz) {
-    a               = std::sqrt(rstar * ov);
-    const double sn = 2.0 * p.estar * a;
-    knd             = (2.0 / 3.0) * sn * ov;
-    cn              = p.alpha * std::sqrt(c.mstar * sn);
-    kt              = 8.0 * p.gstar * a;
-    ct              = p.alpha * std::sqrt(c.mstar * kt);
+    a          = Sqrt(rstar * ov);
+    const T sn = 2.0 * p.estar * a;
+    knd        = (2.0 / 3.0) * sn * ov;
+    cn         = p.alpha * Sqrt(c.mstar * sn);
+    kt         = 8.0 * p.gstar * a;
+    ct         = p.alpha * Sqrt(c.mstar * kt);
   } else {
     knd = p.kn * ov;
     cn  = c.cn;
-    kt  = p.kt;
+    kt  = Splat(p.kt, c.dx);
     ct  = c.mstar * p.gamma_t;
   }
-  const double fnx = knd * nx - cn * vnx, fny = knd * ny - cn * vny, fnz = knd * nz - cn * vnz;
+  const T fnx = knd * nx - cn * vnx, fny = knd * ny - cn * vny, fnz = knd * nz - cn * vnz;
   // the spring: advanced, kept in the tangent plane
-  double       s0 = sx + dt * vtx, s1 = sy + dt * vty, s2 = sz + dt * vtz;
-  const double sn = s0 * nx + s1 * ny + s2 * nz;
+  T       s0 = sx + dt * vtx, s1 = sy + dt * vty, s2 = sz + dt * vtz;
+  const T sn = s0 * nx + s1 * ny + s2 * nz;
   s0 -= sn * nx, s1 -= sn * ny, s2 -= sn * nz;
-  const double dpx = ct * vtx, dpy = ct * vty, dpz = ct * vtz;
-  double       ftx = -(kt * s0 + dpx), fty = -(kt * s1 + dpy), ftz = -(kt * s2 + dpz);
-  const double fs2 = ftx * ftx + fty * fty + ftz * ftz, fn2 = fnx * fnx + fny * fny + fnz * fnz, fmax2 = p.mu * p.mu * fn2;
+  const T dpx = ct * vtx, dpy = ct * vty, dpz = ct * vtz;
+  T       ftx = -(kt * s0 + dpx), fty = -(kt * s1 + dpy), ftz = -(kt * s2 + dpz);
+  const T fs2 = ftx * ftx + fty * fty + ftz * ftz, fn2 = fnx * fnx + fny * fny + fnz * fnz, fmax2 = p.mu * p.mu * fn2;
   // Coulomb: beyond the limit the force is scaled to it and the spring cut back to match (a
   // branch: most contacts stick, and they skip two roots and two divisions)
-  if (fs2 > fmax2) {
-    const double scale = std::sqrt(fmax2) / std::sqrt(fs2);
-    if (kt > 0) {
-      const double ikt = 1.0 / kt;
-      s0 = scale * (s0 + ikt * dpx) - ikt * dpx;
-      s1 = scale * (s1 + ikt * dpy) - ikt * dpy;
-      s2 = scale * (s2 + ikt * dpz) - ikt * dpz;
-    }
-    ftx *= scale, fty *= scale, ftz *= scale;
+  const auto slide = fs2 > fmax2;
+  if (Any(slide)) {
+    const T    scale = Select(slide, Sqrt(fmax2) / Sqrt(Select(slide, fs2, one)), one);
+    const auto cut   = slide & (kt > 0);
+    const T    ikt   = 1.0 / Select(cut, kt, one);
+    s0               = Select(cut, scale * (s0 + ikt * dpx) - ikt * dpx, s0);
+    s1               = Select(cut, scale * (s1 + ikt * dpy) - ikt * dpy, s1);
+    s2               = Select(cut, scale * (s2 + ikt * dpz) - ikt * dpz, s2);
+    ftx = Select(slide, ftx * scale, ftx), fty = Select(slide, fty * scale, fty), ftz = Select(slide, ftz * scale, ftz);
   }
   sx = s0, sy = s1, sz = s2;
-  const double Fx = fnx + ftx, Fy = fny + fty, Fz = fnz + ftz;
-  double       mx = 0, my = 0, mz = 0; // rolling resistance on a
+  const T Fx = fnx + ftx, Fy = fny + fty, Fz = fnz + ftz;
+  T       mx = zero, my = zero, mz = zero; // rolling resistance on a
   if constexpr (Roll) {
-    const double wx = c.wax - c.wbx, wy = c.way - c.wby, wz = c.waz - c.wbz;
-    const double wn = wx * nx + wy * ny + wz * nz;
-    const double rx = wx - wn * nx, ry = wy - wn * ny, rz = wz - wn * nz;
-    const double w = std::sqrt(rx * rx + ry * ry + rz * rz);
-    const double k = w > 0 ? -p.mu_roll * rstar * std::sqrt(fn2) / (w > 0 ? w : 1.0) : 0.0;
+    const T    wx = c.wax - c.wbx, wy = c.way - c.wby, wz = c.waz - c.wbz;
+    const T    wn = wx * nx + wy * ny + wz * nz;
+    const T    rx = wx - wn * nx, ry = wy - wn * ny, rz = wz - wn * nz;
+    const T    w = Sqrt(rx * rx + ry * ry + rz * rz);
+    const auto turning = w > 0;
+    const T    k = Select(turning, -p.mu_roll * rstar * Sqrt(fn2) / Select(turning, w, one), zero);
     mx = k * rx, my = k * ry, mz = k * rz;
   }
-  const double cx = ny * Fz - nz * Fy, cy = nz * Fx - nx * Fz, cz = nx * Fy - ny * Fx; // n x F
+  const T cx = ny * Fz - nz * Fy, cy = nz * Fx - nx * Fz, cz = nx * Fy - ny * Fx; // n x F
   o.fx = Fx, o.fy = Fy, o.fz = Fz;
   o.tax = mx - c.ra * cx, o.tay = my - c.ra * cy, o.taz = mz - c.ra * cz;
   o.tbx = -(c.rb * cx + mx), o.tby = -(c.rb * cy + my), o.tbz = -(c.rb * cz + mz);
-  const double ss = sx * sx + sy * sy + sz * sz;
+  const T ss = sx * sx + sy * sy + sz * sz;
   if constexpr (Hertz) o.energy = (8.0 / 15.0) * p.estar * a * ov * ov + 4.0 * p.gstar * a * ss;
   else o.energy = 0.5 * p.kn * ov * ov + 0.5 * p.kt * ss;
   o.overlap = ov;
   return o;
 }
+#pragma GCC diagnostic pop
 
 // A sphere at an evaluation, read together by a pair.
 struct SphereState {
