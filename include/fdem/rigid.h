@@ -110,9 +110,13 @@ PETSC_EXTERN PetscErrorCode FDEMRigidSetUpTS(FDEMRigid rb, TS ts, Vec *U);
    FDEMSceneRestoreState: every ...RestoreState keeps the Vec). */
 PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U);
 /* Partitions the moving bodies by a recursive coordinate bisection of their centres weighted by
-   their contact primitives (doc/rigid.md, "Parallel") and sends every body to its part's rank
-   (DMSwarmMigrate). Collective. */
+   their contact primitives and pairs (doc/rigid.md, "Parallel") and sends every body to its
+   part's rank (DMSwarmMigrate). Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
+/* With -fdem_rigid_partition_timed: the costs the last partition weighed the bodies by, CPU
+   seconds over the segment before it summed over the ranks, per contact primitive and per
+   contact pair a body took part in (0 before the first measurement; either may be NULL). */
+PETSC_EXTERN PetscErrorCode FDEMRigidGetPartitionCosts(FDEMRigid rb, PetscReal *per_primitive, PetscReal *per_pair);
 /* Solves from t0 to tfinal with steps dt (default type cd), migrating every
    `migrate_every` steps (a new TS per segment). dt, tfinal and the type are
    defaults: -ts_dt, -ts_max_time, -ts_max_steps and -ts_type win.

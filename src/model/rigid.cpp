@@ -15,6 +15,15 @@
 #include <string>
 #include <vector>
 
+#include <time.h>
+
+// CPU seconds of this process (the partition's measured costs).
+static double CpuSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
 using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 using fdem::model::RigidFields;
@@ -84,8 +93,10 @@ PetscErrorCode RHSMomentum(TS ts, PetscReal t, Vec Q, Vec A, void *ctx) {
   rb->power                      = 0;
   if (rb->moved && rb->U) PetscCall(VecGetArrayRead(rb->U, &u));
   rb->FM.assign(6 * n, 0.0);
+  const double cpu0 = rb->weight_timed ? CpuSeconds() : 0;
   for (const auto &term : rb->forces)
     if (term.model) PetscCall(term.model(rb, t, q, rb->FM.data(), term.ctx));
+  if (rb->weight_timed) rb->cpu_terms += CpuSeconds() - cpu0;
   bool body_terms = false; // a user's per-body force function
   for (const auto &term : rb->forces) body_terms = body_terms || term.body;
   const bool       keep_load = (PetscInt)rb->load.size() == 3 * n;
@@ -325,6 +336,7 @@ PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscCall(PetscOptionsEnum("-fdem_rigid_rotation", "Free rotation of the drift: munjiza (book 5.2.10, order 2), nosquish (symplectic, order 2), exact (Jacobi elliptic)", "FDEMRigidSetRotationType",
                              FDEMRotationTypes, (PetscEnum)rb->rotation, (PetscEnum *)&rb->rotation, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_partition_pairs", "Weigh each body in the partition by the contact pairs it took part in at the last search (false: by its contact primitives only)", "FDEMRigidMigrate", rb->weight_pairs, &rb->weight_pairs, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_rigid_partition_timed", "Weigh each body in the partition by measured CPU time: its primitives times the time per primitive and its pairs times the time per pair, both measured over the last segment on every rank (not reproducible to the bit from run to run)", "FDEMRigidMigrate", rb->weight_timed, &rb->weight_timed, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_sphere_orientation", "Turn the spheres' orientation R with their spin (for output; their contacts do not need it)", "FDEMRigidAddSphere", rb->sphere_orientation, &rb->sphere_orientation, nullptr));
   PetscCall(PetscOptionsRealArray("-fdem_rigid_gravity", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g, &three, &flg));
   PetscCheck(!flg || three == 3, rb->comm, PETSC_ERR_ARG_SIZ, "-fdem_rigid_gravity takes three numbers gx,gy,gz; got %" PetscInt_FMT, three);
@@ -619,6 +631,19 @@ PetscErrorCode FDEMRigidSetExternalWork(FDEMRigid rb, PetscReal W) {
   PetscFunctionReturn(0);
 }
 
+void fdem::model::PartitionCosts(PetscReal t_rest, PetscReal t_terms, PetscReal primitives, PetscReal pairs, PetscReal *per_primitive, PetscReal *per_pair) {
+  const bool ok = std::isfinite(t_rest) && std::isfinite(t_terms) && t_rest > 0 && t_terms >= 0 && primitives > 0;
+  *per_primitive = ok ? t_rest / primitives : 0;
+  *per_pair      = ok && pairs > 0 ? t_terms / pairs : 0;
+}
+
+PetscErrorCode FDEMRigidGetPartitionCosts(FDEMRigid rb, PetscReal *per_primitive, PetscReal *per_pair) {
+  PetscFunctionBegin;
+  if (per_primitive) *per_primitive = rb->cost_primitive;
+  if (per_pair) *per_pair = rb->cost_pair;
+  PetscFunctionReturn(0);
+}
+
 void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
   if (rb->moved) rb->meter.Sample(t, rb->power + extra);
 }
@@ -644,10 +669,28 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   PetscCall(DMSwarmGetField(rb->sw, "fixed", nullptr, nullptr, (void **)&fx));
   PetscCall(DMSwarmGetField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
   PetscCall(DMSwarmGetField(rb->sw, "work", nullptr, nullptr, (void **)&work));
+  // the weight of a body is a primitives + b pairs; counts (a = b = 1), or measured: the CPU
+  // time since the last partition, summed over the ranks, split into the model force terms'
+  // (contact: per pair) and the rest (the TS's passes, per primitive)
+  PetscReal a = 1, bw = rb->weight_pairs ? 1 : 0;
+  if (rb->weight_timed) {
+    const double now = CpuSeconds();
+    if (rb->cpu_mark >= 0) {
+      PetscReal loc[4] = {(PetscReal)rb->cpu_terms, (PetscReal)(now - rb->cpu_mark - rb->cpu_terms), 0, 0}, sum[4];
+      for (PetscInt b = 0; b < n; ++b)
+        if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b];
+      PetscCallMPI(MPI_Allreduce(loc, sum, 4, MPIU_REAL, MPI_SUM, rb->comm));
+      fdem::model::PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
+      if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->cost_pair;
+      PetscCall(PetscInfo(nullptr, "partition: %g s per primitive, %g s per pair (CPU, since the last partition)\n", (double)rb->cost_primitive, (double)rb->cost_pair));
+    }
+    rb->cpu_mark  = now;
+    rb->cpu_terms = 0;
+  }
   for (PetscInt b = 0; b < n; ++b)
     if (!fx[b]) {
       mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
-      mine.push_back((sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + (rb->weight_pairs ? work[b] : 0));
+      mine.push_back(a * (sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + bw * work[b]);
     }
   PetscCall(DMSwarmRestoreField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   PetscCall(DMSwarmRestoreField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));

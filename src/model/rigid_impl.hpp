@@ -111,6 +111,9 @@ struct _n_FDEMRigid {
   std::vector<PetscReal> load;      // per local body: the force on it at the last evaluation (3 each; FDEMRigidGetBodyForce)
   PetscBool             sphere_orientation = PETSC_FALSE; // turn the spheres' R too (-fdem_rigid_sphere_orientation)
   PetscBool             weight_pairs = PETSC_TRUE; // partition weights: contact pairs measured at the last search (-fdem_rigid_partition_pairs)
+  PetscBool             weight_timed = PETSC_FALSE; // partition weights in measured CPU seconds (-fdem_rigid_partition_timed)
+  double                cpu_mark = -1, cpu_terms = 0; // CPU seconds (this rank): at the last partition; in the model force terms since
+  PetscReal             cost_primitive = 0, cost_pair = 0; // the last measured costs (s per primitive-step, per pair-step summed over the segment; 0: none)
   // moved bodies (FDEMRigidMoveBody): fixed bodies with a held velocity; the power of their
   // reactions at the last force evaluation (this rank) and its time integral
   PetscReal              power = 0;
@@ -152,4 +155,9 @@ PetscErrorCode RigidDrift(TS ts, PetscReal t, PetscReal s, Vec U, void *rb);
 // After RigidRHSMomentum (which sets rb->power from gravity and the force chain): adds the
 // power extra of forces added since on the moved bodies (contact) and samples the work meter.
 void RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra);
+// The partition's measured costs: the CPU time of the model force terms (t_terms: contact)
+// per pair and of the rest (t_rest: the TS's passes, the RHS) per contact primitive, both
+// summed over the ranks and over one segment; 0 where nothing was measured (no time, no
+// primitives; no pairs for the per-pair cost).
+void PartitionCosts(PetscReal t_rest, PetscReal t_terms, PetscReal primitives, PetscReal pairs, PetscReal *per_primitive, PetscReal *per_pair);
 } // namespace fdem::model
