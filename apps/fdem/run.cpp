@@ -459,12 +459,18 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   std::vector<PetscReal> frames;
   Balance                b;
   b.t = t;
+  if (s.rc && !o.restart[0]) { // bodies that touch at the start: the first row's contact energy
+    FDEMContactStats st;
+    PetscReal        e;
+    PetscCall(FDEMContactGetStats(s.rc, &st));
+    if (st.evaluations == 0) PetscCall(FDEMContactComputeEnergy(s.rc, &e));
+  }
   PetscCall(SimBalance(s, b));
   const Balance first = b;
   if (!o.restart[0]) PetscCall(WriteBalanceRow(bal, b));
   // The energy-gain stop's reference: this first balance, unless the rigid contact has not been
-  // evaluated yet (at a restart, or bodies touching at the start), whose energy it then lacks,
-  // so that the first segment would seem to gain the contact energy: then the first row after it
+  // evaluated yet (at a restart), whose energy it then lacks, so that the first segment would
+  // seem to gain the contact energy: then the first row after it
   Balance gain_ref = first;
   bool    gain_ref_set = true;
   if (s.rc) {

@@ -51,6 +51,11 @@ PETSC_EXTERN PetscErrorCode FDEMContactSetPenalty(FDEMContact c, PetscReal penal
 PETSC_EXTERN PetscErrorCode FDEMContactSetDissipation(FDEMContact c, PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
 PETSC_EXTERN PetscErrorCode FDEMContactSetBuffer(FDEMContact c, PetscReal buffer);
 PETSC_EXTERN PetscErrorCode FDEMContactGetStats(FDEMContact c, FDEMContactStats *stats);
+/* The contact energy of the rigid bodies' state in their swarm: one evaluation over zero time
+   (no tangential spring advances, the clock of the next evaluation is kept; the forces are
+   discarded; the statistics count it). For a state no step has evaluated yet, e.g. bodies that
+   touch at the start. After FDEMRigidSetUpTS or FDEMSceneSetUpTS. Collective. */
+PETSC_EXTERN PetscErrorCode FDEMContactComputeEnergy(FDEMContact c, PetscReal *energy);
 /* The contact engine's time-step check (doc/contact_engine.md): the contact frequency
    omega_c ~ sqrt(penalty A / (L m)) of the lightest body (A = (2 r)^2 its cross-section, L its
    skin tetrahedra's size) against K_crit of the fdem TS type `scheme`; *ratio (may be NULL) =

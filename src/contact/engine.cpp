@@ -579,6 +579,16 @@ PetscErrorCode Engine::Search() {
 }
 
 // ------------------------------------------------------------------ evaluation
+PetscErrorCode Engine::EvaluateStill() {
+  const PetscReal t = time_, last = last_time_;
+  const bool      had = has_time_;
+  PetscFunctionBegin;
+  if (had) time_ = last_time_;
+  PetscCall(Evaluate());
+  time_ = t, last_time_ = last, has_time_ = had;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Engine::Evaluate() {
   PetscFunctionBegin;
   for (auto *a : adapters_) { // primitives that appeared (fracture): list them again

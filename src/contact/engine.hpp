@@ -213,6 +213,10 @@ public:
   }
   // One evaluation: gather, re-search when needed, pair loop, forces back. Collective.
   PetscErrorCode Evaluate();
+  // One evaluation over zero time, the clock left as it was: no tangential spring advances by
+  // a slip, and the run's next evaluation sees the same time step as without it. For the energy
+  // of a state (the first balance row of a run whose bodies touch at the start). Collective.
+  PetscErrorCode EvaluateStill();
   // The time of the next evaluation: a granular contact's tangential spring advances by
   // the slip rate times the time since the last evaluation.
   void SetTime(PetscReal t) { time_ = t; }

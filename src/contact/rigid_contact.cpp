@@ -91,4 +91,19 @@ PetscErrorCode FDEMContactGetStats(FDEMContact c, FDEMContactStats *s) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FDEMContactComputeEnergy(FDEMContact c, PetscReal *energy) {
+  FDEMRigid rb = c->rb;
+  PetscInt  n;
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCheck(n == rb->n, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "FDEMContactComputeEnergy: the rigid bodies have no TS set up for their %" PetscInt_FMT " local bodies (call it after FDEMRigidSetUpTS or FDEMSceneSetUpTS)", n);
+  std::vector<PetscScalar> u(18 * (size_t)n), fm(6 * (size_t)n, 0.0); // the state [x | R | v | H] from the swarm; forces discarded
+  PetscCall(fdem::model::RigidLoadState(rb, u.data()));
+  c->rigid.Bind(u.data(), u.data(), fm.data());
+  PetscCall(c->engine.EvaluateStill());
+  c->rigid.Bind(nullptr, nullptr, nullptr);
+  *energy = c->engine.GetStats().energy;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMContactCheckTimeStep(FDEMContact c, const char *scheme, PetscReal dt, PetscReal *ratio) { return c->engine.CheckTimeStep(scheme, dt, ratio); }
