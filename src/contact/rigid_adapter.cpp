@@ -41,6 +41,13 @@ PetscErrorCode RigidAdapter::PairCounts(const PetscInt *n) {
   PetscReal *work;
   PetscFunctionBegin;
   if (!record_work_) PetscFunctionReturn(0);
+  if (mesh_work_) {
+    PetscInt nb;
+    PetscCall(DMSwarmGetLocalSize(rb_->sw, &nb));
+    rb_->mesh_work.assign((size_t)nb, 0);
+    for (size_t i = 0; i < prim_body_.size(); ++i) rb_->mesh_work[body_[prim_body_[i]]] += (PetscReal)n[i];
+    PetscFunctionReturn(0);
+  }
   PetscCall(DMSwarmGetField(rb_->sw, "work", nullptr, nullptr, (void **)&work));
   for (PetscInt j : body_) work[j] = 0;
   for (size_t i = 0; i < prim_body_.size(); ++i) work[body_[prim_body_[i]]] += (PetscReal)n[i];

@@ -35,14 +35,15 @@ public:
   PetscErrorCode HistoryEnd() override;
   PetscErrorCode SphereStates(int n, const int *which, const int *to, fdem::kernels::SphereState *s) override;
   PetscErrorCode AddSphereForces(int n, const int *which, const int *from, const fdem::kernels::SphereSum *f) override;
-  // Keep each body's pair count (plus nothing else) in its swarm field "work", the weight of the
-  // rigid model's partition (the rigid bodies' own contact does; a combined scene's does not).
-  void           RecordWork(bool on) { record_work_ = on; }
+  // Keep each body's pair count in the weight of the rigid model's partition: the rigid bodies'
+  // own contact in the swarm field "work" (kept in checkpoints), a combined scene's rigid-mesh
+  // contact (mesh = true) in the model's mesh_work (until the next migration); both count.
+  void           RecordWork(bool on, bool mesh = false) { record_work_ = on, mesh_work_ = mesh; }
   PetscErrorCode PairCounts(const PetscInt *n) override;
 
 private:
   FDEMRigid             rb_;
-  bool                  record_work_ = false;
+  bool                  record_work_ = false, mesh_work_ = false;
   const PetscScalar    *q_ = nullptr, *u_ = nullptr;
   PetscScalar          *fm_ = nullptr;
   std::vector<PetscInt>  body_, skin_;  // per listed body (with a skin): local index, skin

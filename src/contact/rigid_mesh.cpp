@@ -14,6 +14,7 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   const bool first = !mesh_;
   mesh_.reset(m);
   rigid_ = std::make_unique<RigidAdapter>(rb);
+  rigid_->RecordWork(true, true); // the partition counts the bodies' pairs with the mesh too
   { // each mesh body's granular material: the rigid model's material of the same name (the driver adds every material)
     std::vector<std::int32_t> gm(d->body_names.size(), -1);
     for (size_t b = 0; b < gm.size() && b < d->material_of_body.size(); ++b) {

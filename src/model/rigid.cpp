@@ -651,8 +651,8 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
 // The partition: a recursive coordinate bisection of the moving bodies' centres, each weighted
 // by its contact work: its contact primitives (a sphere 1, a polyhedron its skin tetrahedra)
 // plus the candidate pairs its primitives took part in at the last search on its rank (the
-// swarm field "work", set by the rigid bodies' contact; -fdem_rigid_partition_pairs false:
-// the primitives only). A group of ranks [r0, r1) splits its bodies along the axis of their
+// swarm field "work", set by the rigid bodies' contact, and mesh_work, set by a combined
+// scene's rigid-mesh contact; -fdem_rigid_partition_pairs false: the primitives only). A group of ranks [r0, r1) splits its bodies along the axis of their
 // largest spread (between the 10% and 90% quantiles, so a few bodies thrown far do not choose
 // it) at the weighted quantile (r1 - r0) / 2 / (r1 - r0), the cut half-way between the two
 // bodies on either side. Fixed bodies (walls, floors) are left out: their pairs are computed
@@ -673,12 +673,14 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   // time since the last partition, summed over the ranks, split into the model force terms'
   // (contact: per pair) and the rest (the TS's passes, per primitive)
   PetscReal a = 1, bw = rb->weight_pairs ? 1 : 0;
+  std::vector<PetscReal> mesh(rb->mesh_work); // the pairs with a mesh, if measured since the last migration
+  mesh.resize((size_t)n, 0);
   if (rb->weight_timed) {
     const double now = CpuSeconds();
     if (rb->cpu_mark >= 0) {
       PetscReal loc[4] = {(PetscReal)rb->cpu_terms, (PetscReal)(now - rb->cpu_mark - rb->cpu_terms), 0, 0}, sum[4];
       for (PetscInt b = 0; b < n; ++b)
-        if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b];
+        if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b] + mesh[b];
       PetscCallMPI(MPI_Allreduce(loc, sum, 4, MPIU_REAL, MPI_SUM, rb->comm));
       fdem::model::PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
       if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->cost_pair;
@@ -690,7 +692,7 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   for (PetscInt b = 0; b < n; ++b)
     if (!fx[b]) {
       mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
-      mine.push_back(a * (sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + bw * work[b]);
+      mine.push_back(a * (sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + bw * (work[b] + mesh[b]));
     }
   PetscCall(DMSwarmRestoreField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   PetscCall(DMSwarmRestoreField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));
@@ -843,6 +845,7 @@ PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmMigrate(rb->sw, PETSC_TRUE));
   PetscCall(SortLocalById(rb));
+  rb->mesh_work.clear(); // indexed by the local bodies before the migration
   PetscFunctionReturn(0);
 }
 

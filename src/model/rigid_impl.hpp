@@ -111,6 +111,7 @@ struct _n_FDEMRigid {
   std::vector<PetscReal> load;      // per local body: the force on it at the last evaluation (3 each; FDEMRigidGetBodyForce)
   PetscBool             sphere_orientation = PETSC_FALSE; // turn the spheres' R too (-fdem_rigid_sphere_orientation)
   PetscBool             weight_pairs = PETSC_TRUE; // partition weights: contact pairs measured at the last search (-fdem_rigid_partition_pairs)
+  std::vector<PetscReal> mesh_work;                 // per local body: its pairs in the rigid-mesh contact of a combined scene at its last search (until the next migration)
   PetscBool             weight_timed = PETSC_FALSE; // partition weights in measured CPU seconds (-fdem_rigid_partition_timed)
   double                cpu_mark = -1, cpu_terms = 0; // CPU seconds (this rank): at the last partition; in the model force terms since
   PetscReal             cost_primitive = 0, cost_pair = 0; // the last measured costs (s per primitive-step, per pair-step summed over the segment; 0: none)
