@@ -652,10 +652,11 @@ void fdem::model::RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra) {
 // by its contact work: its contact primitives (a sphere 1, a polyhedron its skin tetrahedra)
 // plus the candidate pairs its primitives took part in at the last search on its rank (the
 // swarm field "work", set by the rigid bodies' contact, and mesh_work, set by a combined
-// scene's rigid-mesh contact; -fdem_rigid_partition_pairs false: the primitives only). A group of ranks [r0, r1) splits its bodies along the axis of their
-// largest spread (between the 10% and 90% quantiles, so a few bodies thrown far do not choose
-// it) at the weighted quantile (r1 - r0) / 2 / (r1 - r0), the cut half-way between the two
-// bodies on either side. Fixed bodies (walls, floors) are left out: their pairs are computed
+// scene's rigid-mesh contact; -fdem_rigid_partition_pairs false: the primitives only), each
+// counted as 1 or, with -fdem_rigid_partition_timed, in measured CPU seconds. A group of
+// ranks [r0, r1) splits its bodies along the axis of their largest spread (between the 10% and
+// 90% quantiles, so a few bodies thrown far do not choose it) at the weighted quantile
+// (r1 - r0) / 2 / (r1 - r0), the cut half-way between the two bodies on either side. Fixed bodies (walls, floors) are left out: their pairs are computed
 // by the moving body's owner. Every rank computes the same tree from the same gathered centres.
 // Fewer moving bodies than ranks: equal slabs of the domain.
 static PetscErrorCode BalanceRcb(FDEMRigid rb) {
@@ -683,7 +684,7 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
         if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b] + mesh[b];
       PetscCallMPI(MPI_Allreduce(loc, sum, 4, MPIU_REAL, MPI_SUM, rb->comm));
       fdem::model::PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
-      if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->cost_pair;
+      if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->weight_pairs ? rb->cost_pair : 0;
       PetscCall(PetscInfo(nullptr, "partition: %g s per primitive, %g s per pair (CPU, since the last partition)\n", (double)rb->cost_primitive, (double)rb->cost_pair));
     }
     rb->cpu_mark  = now;
