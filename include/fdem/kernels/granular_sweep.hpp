@@ -1,10 +1,11 @@
 // The granular law of kernels/granular.hpp over the sphere-sphere pairs of a contact search:
-// one pass over the candidate pairs, the distance test, the law of each touching pair
-// (Hertz or Hooke, rolling resistance or not) and the forces summed per sphere, in the order
-// of the pairs. The same arithmetic as GranularForce in another order: the results agree to
-// round-off (test_granular_sweep). What a pass cannot decide alone (a spring slot to take or
-// to free, a pair with no law) it lists for the caller. Pure functions on doubles; no PETSc,
-// no MPI.
+// one sweep over the candidate pairs in chunks, the distance test of a chunk first (without a
+// branch on its outcome), then the law of its touching pairs (Hertz or Hooke, rolling
+// resistance or not), four at a time in vector lanes while they share a law, and the forces
+// summed per sphere in the order of the pairs. The same arithmetic as GranularForce in another
+// order: the results agree to round-off (test_granular_sweep). What the sweep cannot decide
+// alone (a spring slot to take or to free, a pair with no law) it lists for the caller. Pure
+// functions on doubles; no PETSc, no MPI.
 #pragma once
 #include "fdem/kernels/granular.hpp"
 
