@@ -248,12 +248,11 @@ PetscErrorCode Engine::ListAll() {
   PetscInt np = nl_;
   PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
   {
-    PetscBool mine = PETSC_FALSE, any, other = PETSC_FALSE, anyother;
-    for (const auto &q : prim_) mine = (PetscBool)(mine || q.shape == kSphere), other = (PetscBool)(other || q.shape != kSphere);
-    PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
-    PetscCallMPI(MPI_Allreduce(&other, &anyother, 1, MPIU_BOOL, MPI_LOR, comm_));
-    spheres_      = any;
-    sphere_only_ = any && !anyother;
+    PetscBool mine[2] = {PETSC_FALSE, PETSC_FALSE}, any[2]; // a sphere, another shape
+    for (const auto &q : prim_) mine[q.shape == kSphere ? 0 : 1] = PETSC_TRUE;
+    PetscCallMPI(MPI_Allreduce(mine, any, 2, MPIU_BOOL, MPI_LOR, comm_));
+    spheres_     = any[0];
+    sphere_only_ = any[0] && !any[1];
   }
   if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
     PetscReal g;

@@ -96,20 +96,15 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void SphereContactSw
     for (int j = j0; j < j1; ++j) { // the distance test without a branch: a dense packing's candidates touch at random
       const SpherePair &q = pairs[j];
       const Vec3        d  = s[q.a].x - s[q.b].x;
-      const double      rr = s[q.a].r + s[q.b].r;
-      const bool        touch = dot(d, d) < rr * rr;
+      const double      rr = s[q.a].r + s[q.b].r, d2 = dot(d, d);
+      const bool        touch = d2 < rr * rr, bad = touch & ((q.law < 0) | !(d2 > 0));
       pick[np] = j;
-      np += touch;
-      if (!touch & (q.slot >= 0)) out.opened.push_back(j); // rare: a contact that opened
+      np += touch & !bad;
+      if ((!touch & (q.slot >= 0)) | bad) (bad ? out.bad : out.opened).push_back(j); // rare: a contact that opened, or an error
     }
     for (int i = 0; i < np; ++i) {
       const int         j = pick[i];
       const SpherePair &q = pairs[j];
-      const Vec3        d = s[q.a].x - s[q.b].x;
-      if (q.law < 0 || !(dot(d, d) > 0)) {
-        out.bad.push_back(j);
-        continue;
-      }
       if (q.slot < 0) {
         springs[j] = Vec3();
         out.started.push_back(j);

@@ -631,7 +631,11 @@ PetscErrorCode FDEMRigidSetExternalWork(FDEMRigid rb, PetscReal W) {
   PetscFunctionReturn(0);
 }
 
-void fdem::model::PartitionCosts(PetscReal t_rest, PetscReal t_terms, PetscReal primitives, PetscReal pairs, PetscReal *per_primitive, PetscReal *per_pair) {
+// The partition's measured costs: the CPU time of the model force terms (t_terms: contact)
+// per pair and of the rest (t_rest: the TS's passes, the RHS) per contact primitive, both
+// summed over the ranks and over one segment; 0 where nothing was measured (no time, no
+// primitives; no pairs for the per-pair cost).
+static void PartitionCosts(PetscReal t_rest, PetscReal t_terms, PetscReal primitives, PetscReal pairs, PetscReal *per_primitive, PetscReal *per_pair) {
   const bool ok = std::isfinite(t_rest) && std::isfinite(t_terms) && t_rest > 0 && t_terms >= 0 && primitives > 0;
   *per_primitive = ok ? t_rest / primitives : 0;
   *per_pair      = ok && pairs > 0 ? t_terms / pairs : 0;
@@ -683,7 +687,7 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
       for (PetscInt b = 0; b < n; ++b)
         if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b] + mesh[b];
       PetscCallMPI(MPI_Allreduce(loc, sum, 4, MPIU_REAL, MPI_SUM, rb->comm));
-      fdem::model::PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
+      PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
       if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->weight_pairs ? rb->cost_pair : 0;
       PetscCall(PetscInfo(nullptr, "partition: %g s per primitive, %g s per pair (CPU, since the last partition)\n", (double)rb->cost_primitive, (double)rb->cost_pair));
     }

@@ -156,9 +156,4 @@ PetscErrorCode RigidDrift(TS ts, PetscReal t, PetscReal s, Vec U, void *rb);
 // After RigidRHSMomentum (which sets rb->power from gravity and the force chain): adds the
 // power extra of forces added since on the moved bodies (contact) and samples the work meter.
 void RigidSampleWork(FDEMRigid rb, PetscReal t, PetscReal extra);
-// The partition's measured costs: the CPU time of the model force terms (t_terms: contact)
-// per pair and of the rest (t_rest: the TS's passes, the RHS) per contact primitive, both
-// summed over the ranks and over one segment; 0 where nothing was measured (no time, no
-// primitives; no pairs for the per-pair cost).
-void PartitionCosts(PetscReal t_rest, PetscReal t_terms, PetscReal primitives, PetscReal pairs, PetscReal *per_primitive, PetscReal *per_pair);
 } // namespace fdem::model
