@@ -547,6 +547,7 @@ PetscErrorCode Engine::Search() {
       return 0;
     }));
   }
+  sep_.assign(pairs_.size(), 0);
   // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere; and how many
   //    pairs each takes part in, for its adapter
   {
@@ -670,12 +671,16 @@ PetscErrorCode Engine::Evaluate() {
       }
       return cboxes_[i];
     };
-    for (const auto &p : pairs_) {
+    for (size_t q = 0; q < pairs_.size(); ++q) {
+      const auto &p = pairs_[q];
       const Tet4 &a = X(p[0]), &b = X(p[1]);
       if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
       const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
+      // apart along the axis that separated the pair last time: no force, and no need to clip
+      if (sep_[q] && fdem::kernels::SeparatedAlong(sep_[q], a, ta, b, tb)) continue;
       const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
       const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
+      sep_[q]        = hit ? 0 : (std::int8_t)fdem::kernels::SeparatingAxis(a, ta, b, tb);
       if (!checked_initial_) {
         // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
         // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)

@@ -292,6 +292,7 @@ private:
   std::vector<std::uint16_t>    seen_;           // per own sphere: the spring slots a contact used at this evaluation
   std::vector<HistorySlot *>    hslots_;         // per own sphere: its spring slots, looked up once per evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
+  std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
   // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring

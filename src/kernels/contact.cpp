@@ -3,6 +3,7 @@
 // doc/contact.md for the derivation of every weight used here.
 #include "fdem/kernels/contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -287,6 +288,55 @@ static bool SeparatedByFace(const Frame &f, const Tet4 &t, double lam[4][4]) {
 }
 
 void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, name, f); }
+
+namespace {
+constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+// Every vertex of t below face plane k of f: lambda_k < 0 at all four (the arithmetic of Barycentric).
+bool BelowFace(const Frame &f, const Tet4 &t, int k) {
+  for (int v = 0; v < 4; ++v) {
+    const Vec3   r   = t[v] - f.o;
+    const double l1 = dot(f.g[1], r), l2 = dot(f.g[2], r), l3 = dot(f.g[3], r);
+    const double lam = k == 0 ? 1.0 - l1 - l2 - l3 : k == 1 ? l1 : k == 2 ? l2 : l3;
+    if (!(lam < 0)) return false;
+  }
+  return true;
+}
+
+// The vertices of a and b apart along the cross product of edge i of a and edge j of b.
+bool ApartAcrossEdges(const Tet4 &a, const Tet4 &b, int i, int j) {
+  const Vec3   ea = a[kEdge[i][1]] - a[kEdge[i][0]], eb = b[kEdge[j][1]] - b[kEdge[j][0]];
+  const Vec3   n  = cross(ea, eb);
+  const double nn = dot(n, n), la = dot(ea, ea), lb = dot(eb, eb);
+  if (!(nn > 1e-12 * la * lb)) return false; // (nearly) parallel edges: no axis
+  double amin = 0, amax = 0, bmin = dot(n, b[0] - a[0]), bmax = bmin;
+  for (int v = 1; v < 4; ++v) {
+    const double pa = dot(n, a[v] - a[0]), pb = dot(n, b[v] - a[0]);
+    amin = std::min(amin, pa), amax = std::max(amax, pa);
+    bmin = std::min(bmin, pb), bmax = std::max(bmax, pb);
+  }
+  const double tol = 1e-9 * std::sqrt(nn) * (std::sqrt(la) + std::sqrt(lb));
+  return bmin - amax > tol || amin - bmax > tol;
+}
+} // namespace
+
+int SeparatingAxis(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb) {
+  for (int k = 0; k < 4; ++k)
+    if (BelowFace(fa, b, k)) return 1 + k;
+  for (int k = 0; k < 4; ++k)
+    if (BelowFace(fb, a, k)) return 5 + k;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      if (ApartAcrossEdges(a, b, i, j)) return 9 + 6 * i + j;
+  return 0;
+}
+
+bool SeparatedAlong(int code, const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb) {
+  if (code >= 1 && code <= 4) return BelowFace(fa, b, code - 1);
+  if (code >= 5 && code <= 8) return BelowFace(fb, a, code - 5);
+  if (code >= 9 && code <= 44) return ApartAcrossEdges(a, b, (code - 9) / 6, (code - 9) % 6);
+  return false;
+}
 
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, TetPairContact &out) {
   Frame fa, fb;

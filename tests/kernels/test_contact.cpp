@@ -749,3 +749,75 @@ TEST(PotentialContact, SurfaceFacesOnlyForRigidSkins) {
   EXPECT_LT(worstM, 1e-12);
   EXPECT_LT(worstE, 1e-11);
 }
+
+// The separating axes the contact engine keeps between evaluations: an axis is found only for a
+// pair the kernel finds apart, the axis it names separates the pair, and it is the expected kind
+// (a face plane, or an edge-edge cross product when no face plane separates).
+TEST(SeparatingAxis, FoundOnlyForPairsApart) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto random_tet = [&](const Vec3 &c, double s) {
+    Tet4 t;
+    do {
+      for (auto &p : t) p = c + s * Vec3{u(rng), u(rng), u(rng)};
+    } while (Volume(t) < 0.02 * s * s * s);
+    return t;
+  };
+  int apart = 0, overlapping = 0, by_edges = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const Tet4 a = random_tet(Vec3{0, 0, 0}, 1), b = random_tet(Vec3{u(rng), u(rng), u(rng)} * 1.2, 1);
+    TetFrame fa, fb;
+    MakeTetFrame(a, "a", fa);
+    MakeTetFrame(b, "b", fb);
+    TetPairContact c;
+    const bool hit  = PotentialContactForce(a, fa, b, fb, 1e6, 2e6, c);
+    const int  code = SeparatingAxis(a, fa, b, fb);
+    ASSERT_GE(code, 0);
+    ASSERT_LE(code, 44);
+    if (hit) {
+      EXPECT_EQ(code, 0) << "pair " << n << " overlaps, yet an axis separates it";
+      ++overlapping;
+      continue;
+    }
+    if (code == 0) continue; // apart by less than the tolerance, or touching: no axis kept
+    ++apart;
+    by_edges += code >= 9;
+    EXPECT_TRUE(SeparatedAlong(code, a, fa, b, fb)) << "pair " << n;
+    // only the named axis: after moving b well into a, it no longer separates them
+    const Tet4 b2 = Shift(b, fa.centroid - fb.centroid);
+    TetFrame fb2;
+    MakeTetFrame(b2, "b", fb2);
+    EXPECT_FALSE(SeparatedAlong(code, a, fa, b2, fb2)) << "pair " << n;
+  }
+  std::printf("%d overlapping, %d apart (%d edge past edge)\n", overlapping, apart, by_edges);
+  EXPECT_GT(overlapping, 500);
+  EXPECT_GT(apart, 500);
+  EXPECT_GT(by_edges, 10); // some pairs are apart only edge past edge
+  EXPECT_FALSE(SeparatedAlong(0, Tet4{}, TetFrame{}, Tet4{}, TetFrame{}));
+  EXPECT_FALSE(SeparatedAlong(45, Tet4{}, TetFrame{}, Tet4{}, TetFrame{}));
+}
+
+// Edge past edge (the configuration of PotentialContact.EdgePastEdge): no face plane separates the
+// pair, the cross product of the two edges does, down to a gap far below the tetrahedra's size;
+// once they cross, no axis is found.
+TEST(SeparatingAxis, EdgePastEdge) {
+  const Tet4 a{Vec3{-1, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, -1}, Vec3{0, 1, -1}};
+  auto B = [](double g) { return Tet4{Vec3{0, -1, g}, Vec3{0, 1, g}, Vec3{-1, 0, 1 + g}, Vec3{1, 0, 1 + g}}; };
+  TetFrame fa;
+  MakeTetFrame(a, "a", fa);
+  for (double g : {0.2, 0.01, 1e-6}) {
+    const Tet4 b = B(g);
+    TetFrame   fb;
+    MakeTetFrame(b, "b", fb);
+    // edge 0 of a (vertices 0-1) and edge 0 of b (vertices 0-1)
+    EXPECT_EQ(SeparatingAxis(a, fa, b, fb), 9) << "g = " << g;
+    EXPECT_TRUE(SeparatedAlong(9, a, fa, b, fb)) << "g = " << g;
+  }
+  for (double g : {1e-12, 0.0, -1e-3}) {
+    const Tet4 b = B(g);
+    TetFrame   fb;
+    MakeTetFrame(b, "b", fb);
+    EXPECT_EQ(SeparatingAxis(a, fa, b, fb), 0) << "g = " << g;
+    EXPECT_FALSE(SeparatedAlong(9, a, fa, b, fb)) << "g = " << g;
+  }
+}

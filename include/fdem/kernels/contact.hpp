@@ -66,6 +66,20 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
 bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb, double penalty_a,
                            double penalty_b, int faces_a, int faces_b, TetPairContact &out);
 
+// Separating axes, for a caller that evaluates the same pair at many nearby positions (the
+// contact engine between two searches). SeparatingAxis returns a code for an axis along which
+// the two tetrahedra are strictly apart, or 0 when it finds none (they overlap or touch): 1-4
+// every vertex of b below face plane k = code - 1 of a (its barycentric coordinate lambda_k
+// negative at all four, computed as PotentialContactForce computes it), 5-8 the same with a and
+// b swapped, 9-44 the cross product of edge i = (code - 9) / 6 of a and edge j = (code - 9) % 6
+// of b, along which the two sets of vertices are apart by more than 1e-9 of the axis times the
+// two edges' lengths (far above round-off, so that the pair kernel finds no overlap either).
+// SeparatedAlong(code, ...) tests that one axis at the current positions: true only when the
+// pair is apart along it, and then PotentialContactForce returns false with zero forces; false
+// says nothing. fa, fb: the frames of a and b (MakeTetFrame).
+int SeparatingAxis(const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb);
+bool SeparatedAlong(int code, const Tet4 &a, const TetFrame &fa, const Tet4 &b, const TetFrame &fb);
+
 // Nodal forces only (overwritten, not accumulated).
 bool PotentialContactForce(const Tet4 &a, const Tet4 &b, double penalty_a, double penalty_b, std::array<Vec3, 4> &fa,
                            std::array<Vec3, 4> &fb);
