@@ -296,8 +296,7 @@ constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 bool BelowFace(const Frame &f, const Tet4 &t, int k) {
   for (int v = 0; v < 4; ++v) {
     const Vec3   r   = t[v] - f.o;
-    const double l1 = dot(f.g[1], r), l2 = dot(f.g[2], r), l3 = dot(f.g[3], r);
-    const double lam = k == 0 ? 1.0 - l1 - l2 - l3 : k == 1 ? l1 : k == 2 ? l2 : l3;
+    const double lam = k == 0 ? 1.0 - dot(f.g[1], r) - dot(f.g[2], r) - dot(f.g[3], r) : dot(f.g[k], r);
     if (!(lam < 0)) return false;
   }
   return true;
@@ -315,8 +314,10 @@ bool ApartAcrossEdges(const Tet4 &a, const Tet4 &b, int i, int j) {
     amin = std::min(amin, pa), amax = std::max(amax, pa);
     bmin = std::min(bmin, pb), bmax = std::max(bmax, pb);
   }
-  const double tol = 1e-9 * std::sqrt(nn) * (std::sqrt(la) + std::sqrt(lb));
-  return bmin - amax > tol || amin - bmax > tol;
+  // apart by more than 1e-9 |n| (|ea| + |eb|), tested as gap^2 > 2e-18 |n|^2 (|ea|^2 + |eb|^2), which
+  // asks at most 1.42 times more and takes no root
+  const double gap = std::max(bmin - amax, amin - bmax);
+  return gap > 0 && gap * gap > 2e-18 * nn * (la + lb);
 }
 } // namespace
 

@@ -72,8 +72,9 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
 // every vertex of b below face plane k = code - 1 of a (its barycentric coordinate lambda_k
 // negative at all four, computed as PotentialContactForce computes it), 5-8 the same with a and
 // b swapped, 9-44 the cross product of edge i = (code - 9) / 6 of a and edge j = (code - 9) % 6
-// of b, along which the two sets of vertices are apart by more than 1e-9 of the axis times the
-// two edges' lengths (far above round-off, so that the pair kernel finds no overlap either).
+// of b, along which the two sets of vertices are apart by more than 1e-9 to 1.42e-9 of the axis
+// times the two edges' lengths (far above round-off, so that the pair kernel finds no overlap
+// either).
 // SeparatedAlong(code, ...) tests that one axis at the current positions: true only when the
 // pair is apart along it, and then PotentialContactForce returns false with zero forces; false
 // says nothing. fa, fb: the frames of a and b (MakeTetFrame).
