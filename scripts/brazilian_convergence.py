@@ -21,6 +21,8 @@ except ImportError:  # a python3 without it (pyenv): the system's has it (script
 
 here = os.path.dirname(os.path.abspath(__file__))
 root = os.path.dirname(here)
+sys.path.insert(0, os.path.join(root, "tests", "driver"))
+from platens import PlatenLoad  # noqa: E402
 args = sys.argv[1:]
 reuse = args[:1] == ["--reuse"]
 args = args[1:] if reuse else args
@@ -58,11 +60,8 @@ for res in resolutions:
         return cast(m.group(1)) if m else float("nan")
     s.update(resolution=float(res), tets=grab(r"(\d+) tetrahedra", int), joints=grab(r"fracture: (\d+) joints", int), dt=grab(r"time step ([0-9.e+-]+) s"),
              wall=grab(r"wall time ([0-9.]+) s"), cpu=grab(r"stepping CPU time ([0-9.]+) s"), checks="; ".join(fail) if fail else "met")
-    rows = [{k: float(x) for k, x in q.items()} for q in csv.DictReader(open(out + "/balance.csv"))]
-    t = np.array([q["time"] for q in rows])
-    W = np.array([q["external_work"] for q in rows])
-    tm = 0.5 * (t[1:] + t[:-1])
-    s["curve"] = (2 * V * tm - 2 * GAP, np.diff(W) / np.diff(t) / (2 * V))
+    _, t, _, P = PlatenLoad(out)  # the load at each balance row, as brazilian.py reads it
+    s["curve"] = (2 * V * t - 2 * GAP, P)
     runs.append(s)
 
 print(f"\n| resolution | tetrahedra | joints | dt | peak load | 2P/(pi D t) / f_t | first break | its \\|z\\| | first 5: \\|z\\| <= | KE / work before it | stepping CPU time, busiest of {nproc} ranks | wall time | checks |")

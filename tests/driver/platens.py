@@ -2,8 +2,12 @@
 closing at the same speed, and read the load from its balance.csv.
   RunScene(prefix): parses `MPIEXEC NP FDEM SCENE [--plot DOCDIR] [--out DIR] [-- fdem options]`
     from the command line, runs fdem and returns (options, output folder); exits on failure.
-  PlatenLoad(out, v): the rows of out/balance.csv and, per balance interval, the mid time tm and
-    the mean load P = (dW/dt) / (2 v) on each platen (W: external_work, v: each platen's speed)."""
+  PlatenLoad(out): the rows of out/balance.csv, their times t and external_work W, and at each
+    row the load P on the platens from out/loads.csv (the driver's force on each moved rigid body,
+    one row with each balance row but the first): the mean of what the specimen puts on the top
+    platen (+z) and on the bottom one (-z), each less its own weight (its load at the first row,
+    when nothing touches it yet); P = 0 at t = 0. The platens are the scene's bodies `top` and
+    `bottom`, closing along z."""
 import csv, os, subprocess, sys, tempfile
 
 import numpy as np
@@ -28,9 +32,14 @@ def RunScene(prefix):
     return opts, out
 
 
-def PlatenLoad(out, v):
+def PlatenLoad(out):
     rows = [{k: float(x) for k, x in row.items()} for row in csv.DictReader(open(out + "/balance.csv"))]
     t = np.array([q["time"] for q in rows])
     W = np.array([q["external_work"] for q in rows])
-    tm = 0.5 * (t[1:] + t[:-1])
-    return rows, t, W, tm, np.diff(W) / np.diff(t) / (2 * v)
+    loads = [{k: float(x) for k, x in row.items()} for row in csv.DictReader(open(out + "/loads.csv"))]
+    if len(loads) != len(rows) - 1 or abs(loads[-1]["time"] - t[-1]) > 1e-12 * max(1.0, t[-1]):
+        sys.exit(f"FAIL: {out}/loads.csv has {len(loads)} rows to {loads[-1]['time'] if loads else 0}, balance.csv {len(rows)} to {t[-1]}")
+    top = np.array([q["top_Fz"] for q in loads])
+    bottom = np.array([q["bottom_Fz"] for q in loads])
+    P = np.concatenate(([0.0], 0.5 * ((top - top[0]) - (bottom - bottom[0]))))
+    return rows, t, W, P
