@@ -107,20 +107,17 @@ double EllipticFc(double phi, double m, double mc) {
   return 2.0 * j * EllipticKc(mc) + f;
 }
 
-// sn, cn, dn of u, and for 0 < m < 1 the amplitude am(u) (the angle whose sine and cosine are
-// sn and cn, continuous in u: am(u + 2K) = am(u) + pi) as the return value (u itself for m <= 0,
-// and 0 for m >= 1, where it is not needed).
-double SnCnDn(double u, double m, double mc, double &sn, double &cn, double &dn) {
+void SnCnDn(double u, double m, double mc, double &sn, double &cn, double &dn) {
   if (m <= 0.0) {
     sn = std::sin(u);
     cn = std::cos(u);
     dn = 1.0;
-    return u;
+    return;
   }
   if (mc <= 0.0) {
     sn = std::tanh(u);
     cn = dn = 1.0 / std::cosh(u);
-    return 0.0;
+    return;
   }
   // Descending Landen / AGM (DLMF 22.20(ii)).
   std::array<double, 40> a{}, c{};
@@ -141,7 +138,6 @@ double SnCnDn(double u, double m, double mc, double &sn, double &cn, double &dn)
   sn = std::sin(phi);
   cn = std::cos(phi);
   dn = std::sqrt(cn * cn + mc * sn * sn); // = sqrt(1 - m sn^2) without cancellation
-  return phi;
 }
 
 // ---------------------------------------------------------------------------
