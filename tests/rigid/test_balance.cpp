@@ -5,7 +5,8 @@
 // measured at the last search (the default), the cut moves into the block and the ranks' work
 // (primitives plus pairs, summed from the swarm field "work") is balanced to 15%. Weighted by
 // measured CPU time (-fdem_rigid_partition_timed) the costs per primitive and per pair are
-// positive and finite, and the ranks' work in those costs is balanced to 15%. Run on 2 ranks
+// positive and finite, and in those costs the ranks' work is better balanced than by the
+// primitives alone when those costs make that cut clearly unbalanced. Run on 2 ranks
 // and more; on one rank it only checks that nothing moves.
 #include <fdem.h>
 #include <fdem/contact.h>
@@ -110,9 +111,13 @@ int main(int argc, char **argv) {
     CHECK(by_pairs[0] < 1.15, "weighted by the pairs, the busiest rank has %.3f times the mean work", (double)by_pairs[0]);
     CHECK(by_count[0] > 1.3, "weighted by the primitives alone the partition should cut between the block and the gas (busiest rank %.3f of the mean): the test no longer tells the two apart", (double)by_count[0]);
     CHECK(std::isfinite(cost[0]) && std::isfinite(cost[1]) && cost[0] > 0 && cost[1] > 0, "the measured costs per primitive and per pair must be positive: %g, %g s", (double)cost[0], (double)cost[1]);
-    // in the costs it weighed by (they vary from run to run), the timed partition is balanced
-    // better than the one by primitives alone
-    CHECK(by_time[1] < by_count[1], "in its measured costs the partition weighted by them (%.3f of the mean) should beat the one by primitives alone (%.3f)", (double)by_time[1], (double)by_count[1]);
+    // in the costs it weighed by (they vary from run to run: CPU time on a shared machine): when
+    // they make the cut by primitives alone clearly unbalanced (the pairs cost enough), the timed
+    // partition beats it; when the measured cost per pair is small against the cost per body,
+    // both cuts are near balance in them, their order is noise, and the timed one must be near
+    // balance too (within the granularity of the block's layers of 64 spheres, on 3 ranks)
+    if (by_count[1] > 1.2) CHECK(by_time[1] < by_count[1], "in its measured costs the partition weighted by them (%.3f of the mean) should beat the one by primitives alone (%.3f)", (double)by_time[1], (double)by_count[1]);
+    else CHECK(by_time[1] < 1.25, "the measured costs make the cut by primitives alone balanced (%.3f of the mean), but the one weighted by them is not (%.3f)", (double)by_count[1], (double)by_time[1]);
   }
   PetscCall(ReportChecks());
   PetscCall(PetscFinalize());
