@@ -1,5 +1,5 @@
 """Shared by brazilian.py and uniaxial.py: run a scene of a specimen between two rigid platens
-closing at the same speed, and read the load from its balance.csv.
+closing at the same speed, and read the load on the platens from its loads.csv.
   RunScene(prefix): parses `MPIEXEC NP FDEM SCENE [--plot DOCDIR] [--out DIR] [-- fdem options]`
     from the command line, runs fdem and returns (options, output folder); exits on failure.
   PlatenLoad(out): the rows of out/balance.csv, their times t and external_work W, and at each
