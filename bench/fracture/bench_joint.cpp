@@ -28,7 +28,7 @@ static double CpuSeconds() { // of this thread: what a shared machine's other lo
 }
 
 namespace {
-// The per-joint kernel of commit 0c5057f (JointElementForces before blocks), for timing and
+// The per-joint kernel of commit 0c5057f (JointElementForces before blocks), with the shear secant since, for timing and
 // comparing against; only here.
 double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3]) {
   double n[3], w, dn[3], sv[3][3], s[3];
@@ -64,9 +64,10 @@ double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3]
       const double sp     = fs * L.slip_per_strength;
       if (s[q] <= sp) {
         const double y = s[q] / sp;
-        t              = JointTraction();
-        t.sigma        = sigma0;
-        t.tau          = fs * y * (2.0 - y);
+        state[q].shear_damage = std::max(state[q].shear_damage, 0.5 * y); // the hardening branch's secant
+        t                     = JointTraction();
+        t.sigma               = sigma0;
+        t.tau                 = (1.0 - state[q].shear_damage) * (L.shear_stiffness * s[q]);
       } else t = JointTractionAt(L, dn[q], s[q], state[q]);
     } else t = JointTractionAt(L, dn[q], s[q], state[q]);
     Dmax = std::max(Dmax, t.D);

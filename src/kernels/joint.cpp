@@ -46,23 +46,28 @@ double Hardening(double x) { return x < 1 ? x * (2.0 - x) : 1.0; }
 double HardeningIntegral(double x) { return x < 1 ? x * x * (1.0 - x / 3.0) : x - 1.0 / 3.0; }
 // The normal branch without damage at opening dn: penalty in compression, hardening in tension.
 double NormalUndamaged(const JointLaw &L, double dn) { return dn <= 0 ? 2.0 * L.ft * dn / L.dn_peak : L.ft * Hardening(dn / L.dn_peak); }
-// The shear strength at that normal traction (Mohr-Coulomb; only compression adds friction).
-double ShearStrength(const JointLaw &L, double sigma0) { return std::max(L.c - std::min(sigma0, 0.0) * L.tan_phi, 0.0); }
-// The part of psi that z(D) scales (J/m^2): the tension and shear terms.
-double SoftenedEnergy(const JointLaw &L, double dn, double s, double sigma0) {
-  const double fs = ShearStrength(L, sigma0), sp = 2.0 * L.h * fs / L.penalty;
-  double e = dn > 0 ? L.ft * L.dn_peak * HardeningIntegral(dn / L.dn_peak) : 0.0;
-  if (sp > 0) e += fs * sp * HardeningIntegral(s / sp);
-  return e;
+// The part of psi that z(D) scales (J/m^2): the tension term.
+double TensionEnergy(const JointLaw &L, double dn) { return dn > 0 ? L.ft * L.dn_peak * HardeningIntegral(dn / L.dn_peak) : 0.0; }
+// The shear damage at which the secant (1 - w) K s meets the law z f_s h(x) at x = s / s_peak:
+// since K s = 2 f_s x, w = 1 - z h(x) / (2x), i.e. 1 - z (1 - x/2) below the peak and
+// 1 - z / (2x) beyond it (x/2 exactly when z = 1). Independent of f_s but through x.
+double SecantShearDamage(double z, double x) { return x < 1 ? 1.0 - z + z * (0.5 * x) : 1.0 - z / (2.0 * x); }
+// The energy per area dissipated by raising the shear damage from w0 to w1 at slip s (m; s_peak
+// sp). Undamaged (D = 0) and below the peak the secant grows along the hardening branch,
+// w = s / (2 sp): the integral of K s^2 / 2 dw from w0 to w1 along it, (2/3) K sp^2 (w1^3 - w0^3),
+// which is exact where the step kept f_s; elsewhere (softening, a growth of D) the growth at the
+// slip reached, (w1 - w0) K s^2 / 2, the release of psi at fixed separation.
+double ShearDissipated(const JointLaw &L, double D, double w0, double w1, double s, double sp) {
+  if (!(w1 > w0)) return 0;
+  if (D == 0 && s <= sp) return (2.0 / 3.0) * L.shear_stiffness * sp * sp * (w1 * w1 * w1 - w0 * w0 * w0);
+  return (w1 - w0) * (0.5 * L.shear_stiffness * s * s);
 }
 } // namespace
 
-double JointStoredEnergy(const JointLaw &L, double dn, double s, double D) {
-  if (D >= 1) return 0;
-  s = std::fabs(s);
-  const double sigma0 = NormalUndamaged(L, dn);
-  const double z      = D > 0 ? JointSoftening(D) : 1.0;
-  return (dn < 0 ? L.ft * dn * dn / L.dn_peak : 0.0) + z * SoftenedEnergy(L, dn, s, sigma0);
+double JointStoredEnergy(const JointLaw &L, double dn, double s, const JointState &st) {
+  if (st.broken || st.D >= 1) return 0;
+  const double z = st.D > 0 ? JointSoftening(st.D) : 1.0;
+  return (dn < 0 ? L.ft * dn * dn / L.dn_peak : 0.0) + z * TensionEnergy(L, dn) + (1.0 - st.shear_damage) * 0.5 * L.shear_stiffness * s * s;
 }
 
 JointLaw MakeJointLaw(const JointMaterial &m, double h) {
@@ -93,6 +98,7 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h) {
   L.dn_crit = Critical(L.dn_peak, L.ft, L.GI);
   L.inv_dn_peak       = 1.0 / L.dn_peak;
   L.slip_per_strength = 2.0 * h / L.penalty;
+  L.shear_stiffness   = L.penalty / h;
   const double sp0 = 2.0 * h * L.c / L.penalty;
   L.s_span    = Critical(sp0, L.c, L.GII) - sp0;
   return L;
@@ -120,19 +126,20 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   JointSlipLimits(L, std::min(sigma0, 0.0), &sp, &sc); // the friction gain comes from compression
   const double DI  = dn > L.dn_peak ? (dn - L.dn_peak) / (L.dn_crit - L.dn_peak) : 0.0;
   const double DII = s > sp ? (s - sp) / (sc - sp) : 0.0;
-  const double D0  = state.D;
+  const double D0  = state.D, w0 = state.shear_damage;
   state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
   t.D = state.D;
   const double z0 = D0 > 0 ? JointSoftening(D0) : 1.0; // intact joints skip the curve
   const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : JointSoftening(state.D)) : z0;
-  if (state.D > D0) t.dissipated = (z0 - z) * SoftenedEnergy(L, dn, s, sigma0); // psi(D0) - psi(D) here
+  // the shear secant: w rises to the law's where that is larger (1 once broken)
+  state.shear_damage = state.D >= 1 ? 1.0 : std::max(w0, SecantShearDamage(z, s / sp));
+  t.dissipated = (z0 - z) * TensionEnergy(L, dn) + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp);
   if (state.D >= 1) {
     state.broken = true;
     return t;
   }
-  const double fs  = ShearStrength(L, sigma0);
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
-  t.tau   = sp > 0 ? z * fs * Hardening(s / sp) : 0.0;
+  t.tau   = (1.0 - state.shear_damage) * (L.shear_stiffness * s);
   return t;
 }
 
@@ -277,12 +284,12 @@ double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb
   double e = 0;
   if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
     for (int q = 0; q < 3; ++q)
-      if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D);
+      if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q]);
       else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak;
     return e;
   }
   for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is Compression's (JointElementForces)
-    if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q].D) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
+    if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q]) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
   double dI[3];
   bool   face;
   return e + Compression(L, P, dI, &face);
@@ -296,17 +303,18 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
   BlockGeometry G;
   G.Set(B);
   // the law's constants and the points' history, component-major
-  alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], undamaged[3][N];
+  alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], K[N], undamaged[3][N], w0[3][N];
   for (int b = 0; b < nb; ++b) {
     const JointLaw &L = *B.law[b];
     ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
-    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0;
+    K[b] = L.shear_stiffness;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
   }
   // The common case for every point, two joints an instruction: an undamaged point below
-  // both peaks is elastic, and its tractions are the law of JointTractionAt without the
-  // damage update, with the law's reciprocals (the same tractions to round-off). fast = 0
-  // marks the points that need JointTractionAt (done one by one below).
-  alignas(16) double sigma[3][N], tau[3][N], fast[3][N];
+  // both peaks is elastic in tension, and its tractions and shear damage are those of
+  // JointTractionAt, with the law's reciprocals (the same to round-off). fast = 0 marks the
+  // points that need JointTractionAt (done one by one below).
+  alignas(16) double sigma[3][N], tau[3][N], fast[3][N], w1[3][N], dw_energy[3][N];
   for (int q = 0; q < 3; ++q)
     for (int b = 0; b < nb; ++b) {
       // each choice as a blend with the factors 1 and 0, exact for finite values (gcc does not
@@ -316,11 +324,22 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       const double sigma0   = pressed * (two_ft[b] * x) + pulled * (ft[b] * x * (2.0 - x));
       const double fs       = c[b] - pressed * (sigma0 * tan_phi[b]); // > 0: compression only adds
       const double sp       = fs * slip_per_strength[b];
-      const double y        = G.s[q][b] / sp;
-      sigma[q][b] = sigma0;
-      tau[q][b]   = fs * y * (2.0 - y);
-      fast[q][b]  = (undamaged[q][b] != 0) & (dn <= dn_peak[b]) & (G.s[q][b] <= sp) ? 1.0 : 0.0;
+      const double s        = G.s[q][b], y = s / sp;
+      const double w        = std::max(w0[q][b], 0.5 * y); // the secant of the hardening branch (z = 1)
+      sigma[q][b]     = sigma0;
+      tau[q][b]       = (1.0 - w) * (K[b] * s);
+      w1[q][b]        = w;
+      dw_energy[q][b] = (2.0 / 3.0) * K[b] * sp * sp * (w * w * w - w0[q][b] * w0[q][b] * w0[q][b]); // ShearDissipated's, along the branch
+      fast[q][b]      = (undamaged[q][b] != 0) & (dn <= dn_peak[b]) & (s <= sp) ? 1.0 : 0.0;
     }
+  // their shear damage and its dissipated energy (a collapsed mid-surface keeps its history)
+  for (int b = 0; b < nb; ++b) {
+    if (G.ok[b] == 0) continue;
+    double diss = 0;
+    for (int q = 0; q < 3; ++q)
+      if (fast[q][b] != 0) B.state[b][q].shear_damage = w1[q][b], diss += dw_energy[q][b];
+    if (B.dissipated[b]) *B.dissipated[b] += G.w[b] * diss;
+  }
   // the other points, one at a time: damage, softening, broken points
   for (int b = 0; b < nb; ++b) {
     B.Dmax[b] = 0;
@@ -425,7 +444,7 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (G.ok[0] == 0) return 0;
   double e = 0;
   for (int q = 0; q < 3; ++q)
-    if (!state[q].broken) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q].D);
+    if (!state[q].broken) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q]);
     else if (G.dn[q][0] < 0) e += G.w[0] * L.ft * G.dn[q][0] * G.dn[q][0] / L.dn_peak; // the compression penalty it keeps
   return e;
 }

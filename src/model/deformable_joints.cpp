@@ -11,6 +11,7 @@
 #include <fdem/kernels/error.hpp>
 #include <fdem/ts.h>
 #include <petscsf.h>
+#include <petscviewerhdf5.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -21,7 +22,7 @@ using namespace fdem::model::deformable;
 using fdem::kernels::JointLaw;
 using fdem::kernels::norm;
 
-static_assert(sizeof(JointLaw) == 13 * sizeof(double), "JointLaw is sent as its first 12 doubles; face_compression is set on each rank");
+static_assert(sizeof(JointLaw) == 14 * sizeof(double), "JointLaw is sent as its first 13 doubles; face_compression is set on each rank");
 
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
@@ -119,8 +120,8 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
   }
   if (nj == 0) PetscFunctionReturn(0);
-  // rank 0: each joint's record (9 ints, 12 reals) to the rank of its tetrahedron a
-  constexpr int          NI = 9, NR = 12; // the reals: the law's fields before face_compression, which is set on each rank
+  // rank 0: each joint's record (9 ints, 13 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 9, NR = 13; // the reals: the law's fields before face_compression, which is set on each rank
   static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
@@ -386,6 +387,9 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
+  for (std::size_t j = 0; j < d->jstate.size(); ++j)
+    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
+  PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
   PetscFunctionReturn(0);
 }
@@ -394,22 +398,31 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
-  std::vector<PetscReal> D(3 * d->jstate.size());
+  std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0);
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true));
+  // A checkpoint written before the shear damage was kept has none: the joints' shear then
+  // restarts from zero, and their first evaluation raises it to the law's secant, the same
+  // tractions as the law without the secant at the positions saved.
+  PetscBool hdf5, has = PETSC_TRUE;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
+  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_shear_damage", &has));
+  if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
+  else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
   PetscInt bad = -1;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     for (int q = 0; q < 3; ++q) {
-      const PetscReal v = D[3 * j + q];
-      if (!(v >= 0 && v <= 1) && bad < 0) bad = d->jgid[j];
-      d->jstate[j][q].D      = v;
-      d->jstate[j][q].broken = v >= 1;
+      const PetscReal v = D[3 * j + q], w = W[3 * j + q];
+      if (!(v >= 0 && v <= 1 && w >= 0 && w <= 1) && bad < 0) bad = d->jgid[j];
+      d->jstate[j][q].D            = v;
+      d->jstate[j][q].shear_damage = w;
+      d->jstate[j][q].broken       = v >= 1;
     }
     d->jgone[j] = d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken; // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
   PetscFunctionReturn(0);
 }
 

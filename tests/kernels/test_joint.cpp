@@ -133,7 +133,7 @@ PathEnergy Walk(const JointLaw &L, double (*path)(double, double *), int n) {
     e.dissipated += t.dissipated;
     dn_prev = dn, s_prev = s, sig_prev = t.sigma, tau_prev = t.tau;
   }
-  e.stored = JointStoredEnergy(L, dn_prev, s_prev, st.D);
+  e.stored = JointStoredEnergy(L, dn_prev, s_prev, st);
   return e;
 }
 const JointLaw &Law() {
@@ -179,7 +179,8 @@ TEST(Joint, WorkIsStoredPlusDissipatedAlongUnloadingAndMixedPaths) {
   const PathEnergy e2 = Walk(L, mixed, 40000);
   EXPECT_EQ(e2.stored, 0);
   EXPECT_NEAR(e2.work, e2.dissipated, 1e-3 * e2.work);
-  // the stored energy's derivatives are the tractions at fixed damage
+  // the stored energy's derivatives are the tractions at fixed damage and shear damage, under
+  // compression too (the shear strength follows it only through the shear damage's growth)
   JointState st;
   (void)JointTractionAt(L, pk + 0.3 * (cr - pk), 0.5 * pk, st); // damage 0.3
   for (double dn : {-0.4 * pk, 0.5 * pk, 1.5 * pk}) {
@@ -188,13 +189,81 @@ TEST(Joint, WorkIsStoredPlusDissipatedAlongUnloadingAndMixedPaths) {
       JointState          a = st;
       const JointTraction t = JointTractionAt(L, dn, s, a);
       ASSERT_EQ(a.D, st.D) << "inside the damage surface";
-      const double dtau = (JointStoredEnergy(L, dn, s + h, st.D) - JointStoredEnergy(L, dn, s - h, st.D)) / (2 * h);
+      const double dtau = (JointStoredEnergy(L, dn, s + h, a) - JointStoredEnergy(L, dn, s - h, a)) / (2 * h);
       EXPECT_NEAR(dtau, t.tau, 1e-6 * L.c) << "dn " << dn << " s " << s;
-      if (dn >= 0 || s == 0) { // under compression and slip the shear strength follows sigma: no potential
-        const double dsig = (JointStoredEnergy(L, dn + h, s, st.D) - JointStoredEnergy(L, dn - h, s, st.D)) / (2 * h);
-        EXPECT_NEAR(dsig, t.sigma, 1e-6 * L.ft) << "dn " << dn << " s " << s;
+      const double dsig = (JointStoredEnergy(L, dn + h, s, a) - JointStoredEnergy(L, dn - h, s, a)) / (2 * h);
+      EXPECT_NEAR(dsig, t.sigma, 1e-6 * L.ft) << "dn " << dn << " s " << s;
+    }
+  }
+}
+
+// Mohr-Coulomb without an energy source: a closed cycle of opening and slip never gives back
+// more work than it took. The cycle slides the joint free of compression, presses it (the
+// shear strength rises by f_t tan(phi) per f_t of compression), slides it back under that
+// pressure and releases it. The law tau = f_s h(s / s_peak) with the strength of the moment
+// would return more on the way back than it took, (p/h)^2 S^3 / 12 (1/c - 1/f_s) per unit
+// area; the secant keeps the softer stiffness it reached and returns less. Repeated cycles,
+// and random closed loops below the peaks, each take at least what they give.
+TEST(Joint, NoClosedCycleOfOpeningAndSlipCreatesEnergy) {
+  const JointLaw &L = Law();
+  double          sp0, sc0;
+  JointSlipLimits(L, 0, &sp0, &sc0);
+  const double S = 0.9 * sp0, press = -2.0 * L.dn_peak; // sigma = -4 f_t: f_s = c + 4 f_t tan(phi)
+  auto corner = [&](int k, double *dn, double *s) {      // (0,0) -> (0,S) -> (press,S) -> (press,0) -> (0,0)
+    const double P[5][2] = {{0, 0}, {0, S}, {press, S}, {press, 0}, {0, 0}};
+    *dn = P[k][0], *s = P[k][1];
+  };
+  JointState st;
+  double     dn = 0, s = 0, sig = 0, tau = 0;
+  const int  n  = 4000;
+  double     cycle_work[3] = {0, 0, 0}, diss = 0;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 4; ++k) {
+      double a0, s0, a1, s1;
+      corner(k, &a0, &s0), corner(k + 1, &a1, &s1);
+      for (int i = 1; i <= n; ++i) {
+        const double        dn1 = a0 + (a1 - a0) * i / n, s1i = s0 + (s1 - s0) * i / n;
+        const JointTraction t   = JointTractionAt(L, dn1, s1i, st);
+        cycle_work[c] += 0.5 * (sig + t.sigma) * (dn1 - dn) + 0.5 * (tau + t.tau) * (s1i - s);
+        diss += t.dissipated;
+        dn = dn1, s = s1i, sig = t.sigma, tau = t.tau;
       }
     }
+  EXPECT_EQ(st.D, 0) << "the cycle stays below the peaks";
+  const double K = L.shear_stiffness, fs = L.c + 4.0 * L.ft * L.tan_phi;
+  const double law_gain = K * K * S * S * S / 12.0 * (1.0 / L.c - 1.0 / fs); // what the law without the secant would create
+  EXPECT_GT(law_gain, 1e-3 * (0.5 * K * S * S)) << "the cycle must be one that the plain law gains on";
+  // the first cycle dissipates what raising the secant to w = x/2 = 0.45 cost, and stores nothing
+  // back at the origin; the later cycles are elastic on that secant and take nothing
+  EXPECT_GT(cycle_work[0], 0.5 * law_gain);
+  // (the dissipated energy is counted at the end of each step, the work by the trapezoid: 1e-3 for 4000 steps a leg)
+  EXPECT_NEAR(cycle_work[0], diss, 1e-3 * cycle_work[0]) << "back at the origin nothing is stored: the work is what was dissipated";
+  for (int c = 1; c < 3; ++c) EXPECT_NEAR(cycle_work[c], 0, 1e-9 * cycle_work[0]) << "cycle " << c;
+  // random closed loops through the origin (7 corners within and around the peaks), from
+  // fresh and from damaged states: the joint stores nothing at the origin whatever its
+  // history, so each loop's work is what it dissipated, and that is never negative
+  unsigned seed = 12345;
+  auto     u    = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+  for (int trial = 0; trial < 200; ++trial) {
+    JointState q;
+    if (trial % 2) (void)JointTractionAt(L, L.dn_peak + 0.2 * u() * (L.dn_crit - L.dn_peak), 0.5 * sp0, q);
+    double pts[9][2] = {};
+    for (int k = 1; k < 8; ++k) pts[k][0] = (-2.0 + 2.9 * u()) * L.dn_peak, pts[k][1] = 1.2 * sp0 * u();
+    double        work = 0, d = 0, pd = 0, ps = 0;
+    JointTraction prev = JointTractionAt(L, 0, 0, q);
+    for (int k = 0; k < 8; ++k)
+      for (int i = 1; i <= 400; ++i) {
+        const double        dn1 = pts[k][0] + (pts[k + 1][0] - pts[k][0]) * i / 400, s1 = pts[k][1] + (pts[k + 1][1] - pts[k][1]) * i / 400;
+        const JointTraction t   = JointTractionAt(L, dn1, s1, q);
+        work += 0.5 * (prev.sigma + t.sigma) * (dn1 - pd) + 0.5 * (prev.tau + t.tau) * (s1 - ps);
+        d += t.dissipated;
+        pd = dn1, ps = s1, prev = t;
+      }
+    const double scale = 0.5 * L.shear_stiffness * sp0 * sp0; // the shear energy at the peak, J/m^2
+    EXPECT_EQ(JointStoredEnergy(L, 0, 0, q), 0);
+    EXPECT_GE(d, 0) << "trial " << trial;
+    EXPECT_NEAR(work, d, 2e-3 * scale) << "trial " << trial;
+    EXPECT_GE(work, -1e-3 * scale) << "trial " << trial << ": a closed loop gave back more than it took";
   }
 }
 

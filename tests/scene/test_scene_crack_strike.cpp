@@ -20,9 +20,11 @@
 //     the cube's;
 //  2. the total linear momentum (cube and mesh) is conserved to 1e-12 of its size (9e-15);
 //  3. the energy (kinetic, strain, the joints' stored and dissipated energy, contact) at the
-//     end equals the initial one within 2e-3 of the cube's kinetic energy of motion along x,
+//     end equals the initial one within 3e-3 of the cube's kinetic energy of motion along x,
 //     0.0312 J (the part the frictionless vertical face exchanges), at the smaller dt
-//     (measured 9.6e-4; 3.8e-3 at the larger, so it shrinks with dt as it must);
+//     (measured 2.0e-3, and 7.8e-3 at the larger; with the joints' shear law before its
+//     secant form, 9.6e-4 and 3.8e-3), and the error shrinks with dt as dt^2 does, within
+//     30% (measured: 3.9 times smaller at half the dt);
 //  4. on 2 ranks, the same run on one rank gives the cube's state to 1e-10 relative.
 // -history prints the cube's state every 20 steps.
 #include <fdem.h>
@@ -199,8 +201,9 @@ int main(int argc, char **argv) {
     CHECK(r.vx_end < 0.2 * vx0 && r.vx_end > -vx0, "dt %g: the crack's face did not stop the cube, or threw it back faster than it came: vx = %g m/s at the end", (double)dt, (double)r.vx_end);
     CHECK(r.depth < 1e-4, "dt %g: the cube went %g m deep into the right half", (double)dt, (double)r.depth);
     CHECK(r.Pdrift < 1e-12 * r.Pscale, "dt %g: linear momentum drifts by %g relative", (double)dt, (double)(r.Pdrift / r.Pscale));
-    if (i == ndt - 1) CHECK(err.back() < 2e-3, "dt %g: energy off by %g J, %g of the cube's x kinetic energy", (double)dt, (double)(r.E1 - r.E0), err.back());
-    if (i > 0) CHECK(err[i] < err[i - 1], "the energy error does not shrink with dt: %g (dt %g) vs %g (dt %g)", err[i], (double)dts[i], err[i - 1], (double)dts[i - 1]);
+    if (i == ndt - 1) CHECK(err.back() < 3e-3, "dt %g: energy off by %g J, %g of the cube's x kinetic energy", (double)dt, (double)(r.E1 - r.E0), err.back());
+    // second order: halving dt divides the error by about 4 (measured 3.9)
+    if (i > 0) CHECK(err[i] < err[i - 1] * std::pow(dts[i] / dts[i - 1], 2) * 1.3, "the energy error does not shrink as dt^2: %g (dt %g) vs %g (dt %g)", err[i], (double)dts[i], err[i - 1], (double)dts[i - 1]);
     if (size > 1 && i == ndt - 1) { // the same on one rank
       Result s;
       if (rank == 0) PetscCall(Strike(PETSC_COMM_SELF, dt, tend, false, s));

@@ -1,10 +1,13 @@
 // The cohesive law of a fracture joint between two tetrahedra (doc/fracture.md):
 // Munjiza's combined single and smeared crack model. A joint carries a normal
 // traction sigma from its opening dn and a shear traction tau from its slip s;
-// up to the peak the law hardens (elastic, reversible), beyond it the joint
-// softens along Munjiza's curve z(D) with a damage D that never decreases,
-// and at D = 1 the joint is broken and carries nothing. Pure functions on
-// doubles; no PETSc, no MPI.
+// up to the peak the law hardens, beyond it the joint softens along
+// Munjiza's curve z(D) with a damage D that never decreases, and at D = 1 the
+// joint is broken and carries nothing. The shear traction is a secant
+// stiffness (1 - w) p / h times the slip, with a shear damage w that never
+// decreases either, so that a joint never gives back more work than it took
+// although its shear strength follows the normal traction (Mohr-Coulomb).
+// Pure functions on doubles; no PETSc, no MPI.
 #pragma once
 #include <string>
 
@@ -42,6 +45,7 @@ struct JointLaw {
   double s_span = 0;               // s_crit - s_peak, the softening span of the slip (pure shear), m
   double inv_dn_peak = 0;          // 1 / dn_peak, 1/m
   double slip_per_strength = 0;    // 2 h / p: the slip at the shear peak is f_s times this, m/Pa
+  double shear_stiffness = 0;      // K = p / h, Pa/m: the slope of the shear law at zero slip, whatever f_s
   // 1: a joint element's compression is the larger of the penalty's energy at its three points
   // and its exact integral over the pressed part of the face (JointElementForces); 0: the points'
   // alone. Not set by MakeJointLaw (0); the deformable model sets it from
@@ -56,9 +60,13 @@ struct JointLaw {
 // than G_I: 2/3 f_t dn_peak >= G_I, i.e. the peak opening is too large).
 JointLaw MakeJointLaw(const JointMaterial &m, double h);
 
-// The history of one joint: the largest damage reached (never decreases).
+// The history of one joint point: the largest damage reached and the shear damage (neither
+// ever decreases).
 struct JointState {
   double D = 0;
+  // w in [0, 1]: the shear traction is (1 - w) K s. Each evaluation raises it to the law's
+  // secant, 1 - tau_law / (K s), where that is larger (doc/fracture.md, "Shear").
+  double shear_damage = 0;
   bool broken = false;
 };
 
@@ -74,20 +82,25 @@ struct JointTraction {
 // D_I = (dn - dn_peak)+ / (dn_crit - dn_peak) and the same for the slip; the
 // state keeps the largest D. sigma = z(D) f_t h(dn / dn_peak) in tension,
 // tau = z(D) f_s h(s / s_peak), with h(x) = 2x - x^2 for x < 1 and 1 beyond.
+// The shear traction is the secant form of that law: tau = (1 - w) K s, with the state's
+// shear damage w raised to 1 - tau_law / (K s) where that is larger. Along a monotonic
+// path at a fixed normal traction tau is tau_law exactly; where f_s falls or the slip
+// unloads the joint keeps the softer secant, so that no cycle of opening and slip gives
+// back more work than it took. `dissipated` is the energy of the growth of D and w.
 // The state is updated (pass a copy to evaluate without committing).
 JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointState &state);
 
-// The energy per area (J/m^2) a joint point stores at opening dn, slip s and damage D:
-// the free energy psi whose derivatives are the tractions (doc/fracture.md),
-//   psi = z(D) [f_t dn_peak H(dn / dn_peak) + f_s s_peak H(s / s_peak)]  (dn >= 0),
+// The energy per area (J/m^2) a joint point stores at opening dn and slip s in the history
+// `state` (damage D, shear damage w): the free energy psi whose derivatives are the
+// tractions at fixed D and w (doc/fracture.md),
+//   psi = z(D) f_t dn_peak H(dn / dn_peak) + (1 - w) K s^2 / 2   (dn >= 0),
 //   H(x) = x^2 - x^3/3 below the peak, 2/3 + (x - 1) beyond it,
 // with the compression penalty's f_t dn^2 / dn_peak in place of the first term when
-// dn < 0. Unloading at fixed D gives it back. It is 0 at D = 1 (broken). Growing the
-// damage from D0 to D1 at fixed separation dissipates psi(D0) - psi(D1): the
-// `dissipated` of JointTractionAt, so that the work done on a joint is the stored
-// energy plus the sum of the dissipated (exactly for a pure mode; under compression the
-// shear strength follows the normal traction and the split is the same to first order).
-double JointStoredEnergy(const JointLaw &law, double dn, double s, double D);
+// dn < 0. Unloading at fixed D and w gives it back. It is 0 once broken. Growing D from D0
+// to D1 and w from w0 to w1 at fixed separation dissipates psi(D0, w0) - psi(D1, w1) >= 0:
+// the `dissipated` of JointTractionAt, so that the work done on a joint is the stored
+// energy plus the sum of the dissipated, along any path.
+double JointStoredEnergy(const JointLaw &law, double dn, double s, const JointState &state);
 
 // The slip at the shear peak and at rupture for a normal traction sigma (Pa):
 // s_peak = 2 h f_s / p; the softening span s_crit - s_peak is that of pure shear.
