@@ -74,14 +74,14 @@ struct JointTraction {
   double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the penalty 2 f_t dn / dn_peak)
   double tau = 0;   // shear traction, Pa, in the direction of the slip (s >= 0 given)
   double D = 0;     // damage after this evaluation
-  double dissipated = 0; // energy per area (J/m^2) dissipated by this evaluation's growth of D
+  double dissipated = 0; // energy per area (J/m^2) dissipated by this evaluation's growth of D and w
 };
 
 // Tractions at opening dn (m, > 0 opening) and slip magnitude s >= 0 (m).
 // Damage from both modes: D = min(1, sqrt(D_I^2 + D_II^2)) with
 // D_I = (dn - dn_peak)+ / (dn_crit - dn_peak) and the same for the slip; the
 // state keeps the largest D. sigma = z(D) f_t h(dn / dn_peak) in tension,
-// tau = z(D) f_s h(s / s_peak), with h(x) = 2x - x^2 for x < 1 and 1 beyond.
+// tau_law = z(D) f_s h(s / s_peak), with h(x) = 2x - x^2 for x < 1 and 1 beyond.
 // The shear traction is the secant form of that law: tau = (1 - w) K s, with the state's
 // shear damage w raised to 1 - tau_law / (K s) where that is larger. Along a monotonic
 // path at a fixed normal traction tau is tau_law exactly; where f_s falls or the slip
