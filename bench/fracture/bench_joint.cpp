@@ -64,7 +64,7 @@ double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3]
       const double sp     = fs * L.slip_per_strength;
       if (s[q] <= sp) {
         const double y = s[q] / sp;
-        state[q].shear_damage = std::max(state[q].shear_damage, 0.5 * y); // the hardening branch's secant
+        state[q].shear_damage = std::max(state[q].shear_damage, (float)(0.5 * y)); // the hardening branch's secant
         t                     = JointTraction();
         t.sigma               = sigma0;
         t.tau                 = (1.0 - state[q].shear_damage) * (L.shear_stiffness * s[q]);

@@ -126,13 +126,14 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   JointSlipLimits(L, std::min(sigma0, 0.0), &sp, &sc); // the friction gain comes from compression
   const double DI  = dn > L.dn_peak ? (dn - L.dn_peak) / (L.dn_crit - L.dn_peak) : 0.0;
   const double DII = s > sp ? (s - sp) / (sc - sp) : 0.0;
-  const double D0  = state.D, w0 = state.shear_damage;
+  const double D0  = state.D;
+  const float  w0  = state.shear_damage;
   state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
   t.D = state.D;
   const double z0 = D0 > 0 ? JointSoftening(D0) : 1.0; // intact joints skip the curve
   const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : JointSoftening(state.D)) : z0;
   // the shear secant: w rises to the law's where that is larger (1 once broken)
-  state.shear_damage = state.D >= 1 ? 1.0 : std::max(w0, SecantShearDamage(z, s / sp));
+  state.shear_damage = state.D >= 1 ? 1.0f : std::max(w0, (float)SecantShearDamage(z, s / sp));
   t.dissipated = (z0 - z) * TensionEnergy(L, dn) + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp);
   if (state.D >= 1) {
     state.broken = true;
@@ -325,29 +326,28 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       const double fs       = c[b] - pressed * (sigma0 * tan_phi[b]); // > 0: compression only adds
       const double sp       = fs * slip_per_strength[b];
       const double s        = G.s[q][b], y = s / sp;
-      const double w        = std::max(w0[q][b], 0.5 * y); // the secant of the hardening branch (z = 1)
+      const double w        = std::max(w0[q][b], (double)(float)(0.5 * y)); // the secant of the hardening branch (z = 1), as the state holds it
       sigma[q][b]     = sigma0;
       tau[q][b]       = (1.0 - w) * (K[b] * s);
       w1[q][b]        = w;
       dw_energy[q][b] = (2.0 / 3.0) * K[b] * sp * sp * (w * w * w - w0[q][b] * w0[q][b] * w0[q][b]); // ShearDissipated's, along the branch
       fast[q][b]      = (undamaged[q][b] != 0) & (dn <= dn_peak[b]) & (s <= sp) ? 1.0 : 0.0;
     }
-  // their shear damage and its dissipated energy (a collapsed mid-surface keeps its history)
-  for (int b = 0; b < nb; ++b) {
-    if (G.ok[b] == 0) continue;
-    double diss = 0;
-    for (int q = 0; q < 3; ++q)
-      if (fast[q][b] != 0) B.state[b][q].shear_damage = w1[q][b], diss += dw_energy[q][b];
-    if (B.dissipated[b]) *B.dissipated[b] += G.w[b] * diss;
-  }
-  // the other points, one at a time: damage, softening, broken points
+  // the fast points' shear damage and its dissipated energy (where it grew), then the other
+  // points, one at a time: damage, softening, broken points
   for (int b = 0; b < nb; ++b) {
     B.Dmax[b] = 0;
     if (G.ok[b] == 0) continue; // a collapsed mid-surface carries nothing and keeps its history
-    if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) continue;
-    const JointLaw &L     = *B.law[b];
-    JointState     *state = B.state[b];
-    double          diss  = 0;
+    JointState *state = B.state[b];
+    double      fdiss = 0;
+    for (int q = 0; q < 3; ++q)
+      if (fast[q][b] != 0 && w1[q][b] != w0[q][b]) state[q].shear_damage = (float)w1[q][b], fdiss += dw_energy[q][b];
+    double diss = G.w[b] * fdiss;
+    if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) {
+      if (diss != 0 && B.dissipated[b]) *B.dissipated[b] += diss;
+      continue;
+    }
+    const JointLaw &L = *B.law[b];
     for (int q = 0; q < 3; ++q) {
       if (fast[q][b] != 0) continue;
       const JointTraction t = JointTractionAt(L, G.dn[q][b], G.s[q][b], state[q]);

@@ -415,7 +415,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       const PetscReal v = D[3 * j + q], w = W[3 * j + q];
       if (!(v >= 0 && v <= 1 && w >= 0 && w <= 1) && bad < 0) bad = d->jgid[j];
       d->jstate[j][q].D            = v;
-      d->jstate[j][q].shear_damage = w;
+      d->jstate[j][q].shear_damage = (float)w;
       d->jstate[j][q].broken       = v >= 1;
     }
     d->jgone[j] = d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken; // not reported as a break

@@ -65,8 +65,10 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h);
 struct JointState {
   double D = 0;
   // w in [0, 1]: the shear traction is (1 - w) K s. Each evaluation raises it to the law's
-  // secant, 1 - tau_law / (K s), where that is larger (doc/fracture.md, "Shear").
-  double shear_damage = 0;
+  // secant, 1 - tau_law / (K s), where that is larger (doc/fracture.md, "Shear"). A float,
+  // so that a point's history stays 16 bytes: the law rounds the secant to it, and the
+  // tractions, the stored and the dissipated energy all use the rounded value.
+  float shear_damage = 0;
   bool broken = false;
 };
 
