@@ -34,10 +34,16 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
   if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
   PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
   if (joints) { // the cells of fracturable bodies are chosen by the fracture topology
+    PetscBool dc = PETSC_TRUE;
+    PetscOptionsBegin(comm, nullptr, "fdem contact of fracturable bodies", "FDEMDeformableContact");
+    PetscCall(PetscOptionsBool("-fdem_joint_damaged_contact", "The tetrahedra at a joint that has softened (a point beyond its peak) take part in contact, and so do neighbours by an edge or a vertex once a joint has softened (false: only once it has broken; cheaper, but a crack's sides that slide before it breaks meet deeply overlapped; doc/fracture.md)", "", dc, &dc, nullptr));
+    PetscOptionsEnd();
+    m->damaged_cells_ = dc;
     fdem::model::FractureTopology t;
     PetscCall(fdem::model::DeformableFractureTopology(d, t));
     m->fracturable_ = t.fracturable;
     m->nbroken_     = t.nbroken;
+    m->ndamaged_    = t.ndamaged;
     m->broken_      = t.broken_pairs;
     m->Select(&t);
   } else {
@@ -52,8 +58,11 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
 // A cell of a body that is not fracturable takes part when it has a boundary face (or, for
 // Cells::BoundaryVertex, a boundary vertex), its node ids those of the mesh. A cell of a
 // fracturable body takes part when it has a free face (on the body's outer surface or on a
-// broken joint; or a vertex on such a face), its node ids the node keys of the topology.
-// Before any joint breaks, these are the cells at the surface of the unsplit body.
+// broken joint; or a vertex on such a face) or a damaged joint face (a point beyond its peak),
+// its node ids the node keys of the topology. Before any joint softens, these are the cells at
+// the surface of the unsplit body. The damaged cells take part so that the two sides of a
+// crack that slides or opens before it breaks through cannot pass through each other unseen,
+// to be met deeply overlapped when it breaks (doc/fracture.md, "Broken joints").
 void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   const AllCells &A  = all_;
   const size_t    nc = A.body.size();
@@ -66,7 +75,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     bool       on;
     if (frac) {
       surf = (char)(t->cell_free[e] & 0xF);
-      on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10));
+      on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10)) || (damaged_cells_ && (t->cell_free[e] & 0x20));
     } else {
       on = surf != 0;
       if (which_ == Cells::BoundaryVertex)
@@ -91,12 +100,12 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
     const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
     if (std::binary_search(broken_.begin(), broken_.end(), k)) return true; // the two sides of a broken joint
   }
-  if (fractured_ && fracturable_[a.body] && nbroken_ > 0) {
-    // Once a joint has broken, only a face glued by an intact joint (three shared node keys)
+  if (fractured_ && fracturable_[a.body] && (nbroken_ > 0 || (damaged_cells_ && ndamaged_ > 0))) {
+    // Once a joint has softened, only a face glued by an intact joint (three shared node keys)
     // keeps two tetrahedra of a fracturable body apart; neighbours by an edge or a vertex are
     // paired (touching there, they barely overlap), so that two tetrahedra on the two sides of a
     // crack that is still glued at a node or an edge cannot pass through each other unseen.
-    // Before any joint breaks the usual rule holds, and an intact body feels no contact force.
+    // Before any joint softens the usual rule holds, and an intact body feels no contact force.
     int shared = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
@@ -107,15 +116,16 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
 }
 
 PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
-  PetscInt n;
+  PetscInt n, nd;
   PetscFunctionBegin;
   *changed = PETSC_FALSE;
   if (!fractured_) PetscFunctionReturn(0);
-  PetscCall(fdem::model::DeformableBrokenJoints(d_, &n)); // the same on every rank
-  if (n == nbroken_) PetscFunctionReturn(0);
+  PetscCall(fdem::model::DeformableJointCounts(d_, &n, &nd)); // the same on every rank
+  if (n == nbroken_ && (nd == ndamaged_ || !damaged_cells_)) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
   PetscCall(fdem::model::DeformableFractureTopology(d_, t));
-  nbroken_ = t.nbroken;
+  nbroken_  = t.nbroken;
+  ndamaged_ = t.ndamaged;
   broken_  = t.broken_pairs;
   Select(&t);
   *changed = PETSC_TRUE;

@@ -64,6 +64,8 @@ private:
   bool                                 fractured_ = false; // the mesh has joints
   std::vector<char>                    fracturable_;       // per body
   PetscInt                             nbroken_ = 0;       // broken joints at the last selection
+  PetscInt                             ndamaged_ = 0;      // damaged joints (a point beyond its peak) at the last selection
+  bool                                 damaged_cells_ = true; // -fdem_joint_damaged_contact: the cells of damaged joints take part
   std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
   FDEMDeformable                       d_ = nullptr;
   PetscInt                             nbodies_ = 0;

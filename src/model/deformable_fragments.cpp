@@ -102,6 +102,8 @@ struct Received {
 };
 
 bool JointBroken(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].broken && st[1].broken && st[2].broken; }
+// A joint with a point beyond its peak (softening or broken).
+bool JointDamaged(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].D > 0 || st[1].D > 0 || st[2].D > 0; }
 
 std::vector<char> FracturableBodies(FDEMDeformable d) {
   std::vector<char> f(d->body_names.size(), 0);
@@ -177,14 +179,15 @@ PetscErrorCode fdem::model::DeformableHasJoints(FDEMDeformable d, PetscBool *has
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::model::DeformableBrokenJoints(FDEMDeformable d, PetscInt *nbroken) {
+PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged) {
   PetscFunctionBegin;
-  PetscCall(CheckSetUp(d, "DeformableBrokenJoints"));
-  *nbroken = 0;
+  PetscCall(CheckSetUp(d, "DeformableJointCounts"));
+  *nbroken = *ndamaged = 0;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
-  PetscInt n = 0;
-  for (const auto &st : d->jstate) n += JointBroken(st) ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(&n, nbroken, 1, MPIU_INT, MPI_SUM, d->comm));
+  PetscInt n[2] = {0, 0}, all[2];
+  for (const auto &st : d->jstate) n[0] += JointBroken(st) ? 1 : 0, n[1] += JointDamaged(st) ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(n, all, 2, MPIU_INT, MPI_SUM, d->comm));
+  *nbroken = all[0], *ndamaged = all[1];
   PetscFunctionReturn(0);
 }
 
@@ -213,7 +216,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    opposite node o; one face per node), whether an intact joint glues it (kGlued) or a broken
   //    one held by another rank faced tetrahedron a (that cell's id; a broken joint within the
   //    rank is listed once, by its own rank), and which of its nodes are glued to another rank.
-  std::vector<unsigned char>           freef(nc, 0);
+  std::vector<unsigned char>           freef(nc, 0), damaged(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
   std::vector<PetscInt>                root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
@@ -229,7 +232,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     PetscCall(PetscSFBcastEnd(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
     for (PetscInt j = 0; j < nj; ++j) {
       PetscInt *L      = &leaf[9 * (std::size_t)j];
-      const bool broken = JointBroken(d->jstate[j]), remote = d->jnode_b[j][0] < 0;
+      const bool broken = JointBroken(d->jstate[j]), remote = d->jnode_b[j][0] < 0, hurt = JointDamaged(d->jstate[j]);
       int        oa = 6, ob = 6, slot[3];
       for (int i = 0; i < 3; ++i) {
         oa -= (int)node_slot[d->jnode_a[j][i]];
@@ -237,6 +240,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         PetscCheck(slot[i] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node of triangle b in no fracturable cell", d->jgid[j]);
       }
       const PetscInt gb = L[1];
+      if (hurt) damaged[ca[j]] = 1;
       if (broken) pairs.push_back({std::min(d->cell_gid[ca[j]], gb), std::max(d->cell_gid[ca[j]], gb)});
       else freef[ca[j]] &= (unsigned char)~(1u << oa);
       if (!broken && remote) {
@@ -247,7 +251,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       for (int i = 0; i < 3; ++i) {
         L[3 * i]     = slot[i] == (ob + 1) % 4 && !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
         L[3 * i + 1] = !broken && remote ? 1 : kNoFace;
-        L[3 * i + 2] = kNoFace;
+        L[3 * i + 2] = slot[i] == (ob + 1) % 4 && hurt ? 1 : kNoFace; // tetrahedron b has a damaged joint face
       }
     }
     std::fill(root.begin(), root.end(), kNoFace);
@@ -260,8 +264,10 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
           if (v == kGlued) freef[e] &= (unsigned char)~(1u << o);
           else if (v >= 0) pairs.push_back({std::min(v, d->cell_gid[e]), std::max(v, d->cell_gid[e])});
         }
-    for (PetscInt l = 0; l < nl; ++l)
+    for (PetscInt l = 0; l < nl; ++l) {
       if (root[3 * l + 1] == 1) remote_b.push_back(l), cbnd.push_back(node_cell[l]);
+      if (root[3 * l + 2] == 1) damaged[node_cell[l]] = 1;
+    }
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
   std::sort(pairs.begin(), pairs.end());
@@ -366,9 +372,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " rounds of label exchange (bound %" PetscInt_FMT ")\n", round, bound + 1));
   // 5. The answer per cell; the fragments numbered by body and smallest cell id, from the
   //    (body, id) of every fragment, given by the rank of its smallest cell.
-  PetscInt n = 0;
-  for (const auto &st : d->jstate) n += JointBroken(st) ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(&n, &t.nbroken, 1, MPIU_INT, MPI_SUM, d->comm));
+  PetscCall(DeformableJointCounts(d, &t.nbroken, &t.ndamaged));
   t.broken_pairs = std::move(pairs);
   t.cell_free.resize(nc);
   t.cell_key.resize(4 * (std::size_t)nc);
@@ -379,7 +383,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       t.cell_key[4 * e + a] = nodes.Label(node(e, a));
       onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
     }
-    t.cell_free[e] = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0));
+    t.cell_free[e] = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0));
     if (cells.Label(e) == d->cell_gid[e]) mine.push_back(d->ed.body[e]), mine.push_back(d->cell_gid[e]);
   }
   std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);

@@ -26,13 +26,15 @@ PetscErrorCode DeformableGetTS(FDEMDeformable d, TS *ts);
 // broken when all three of its points are. The topology of the fractured mesh:
 struct FractureTopology {
   PetscInt                             nbroken    = 0; // broken joints (all ranks)
+  PetscInt                             ndamaged   = 0; // joints with a point beyond its peak (D > 0; broken ones included; all ranks)
   PetscInt                             nfragments = 0; // connected components over shared nodes and intact joints
   std::vector<PetscInt>                fragment_body;  // per fragment (every rank)
   std::vector<PetscInt>                cell_fragment;  // per local cell (FDEMDeformableGetLocalCells order)
   std::vector<char>                    fracturable;    // per body: 1 if fracturable (every rank)
   // per local cell of a fracturable body (0 elsewhere): bit o set when the face opposite
   // node o is free (on the body's outer surface or on a broken joint); bit 4 set when a
-  // vertex lies on the free surface (its key is that of a node of a free face)
+  // vertex lies on the free surface (its key is that of a node of a free face); bit 5 set
+  // when a face of the cell is a damaged joint (a point beyond its peak, or broken)
   std::vector<unsigned char>           cell_free;
   // 4 per local cell: the key of each node, the smallest split-mesh id among the copies of
   // its input node glued to it through intact joints (its own id outside fracturable bodies)
@@ -42,9 +44,10 @@ struct FractureTopology {
 // Collective (each rank works on its own cells and joints, and exchanges labels with the
 // ranks it shares joints or nodes with until they settle; deformable_fragments.cpp).
 PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
-// The number of broken joints (all ranks); collective when the mesh has joints, 0 at once
-// (no communication) when it has none.
-PetscErrorCode DeformableBrokenJoints(FDEMDeformable d, PetscInt *nbroken);
+// The number of broken joints and of damaged joints (a point beyond its peak, broken ones
+// included), all ranks, in one reduction; collective when the mesh has joints, 0 at once (no
+// communication) when it has none. Both only grow.
+PetscErrorCode DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged);
 // Whether the mesh has fracture joints (the same on every rank).
 PetscErrorCode DeformableHasJoints(FDEMDeformable d, PetscBool *has);
 } // namespace fdem::model
