@@ -42,6 +42,7 @@ struct Primitive {
   std::int32_t push    = 15; // tetrahedron: bit o set when its face opposite vertex o must be pushed by another's
                              // potential (a rigid skin: its surface faces; the shared ones cancel, doc/contact.md)
   std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none
+  std::int32_t flags   = 0;  // the adapter's own bits (the mesh adapter: 1 when the tetrahedron is at a damaged joint)
   double       radius  = 0;  // sphere: its radius
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
 };

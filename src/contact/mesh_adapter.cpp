@@ -88,6 +88,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     p.key  = A.gid[e];
     p.surface = (std::int32_t)(surf & 0xF);
     p.mat     = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
+    p.flags   = frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);
@@ -105,12 +106,15 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
     // keeps two tetrahedra of a fracturable body apart; neighbours by an edge or a vertex are
     // paired (touching there, they barely overlap), so that two tetrahedra on the two sides of a
     // crack that is still glued at a node or an edge cannot pass through each other unseen.
+    // With -fdem_joint_damaged_contact such neighbours are paired only when one of them is at a
+    // damaged joint (a crack's side): two whose joints are all intact are held together by them.
     // Before any joint softens the usual rule holds, and an intact body feels no contact force.
     int shared = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
         if (a.node[i] >= 0 && a.node[i] == b.node[j]) ++shared;
-    return shared < 3;
+    if (shared == 0 || !damaged_cells_) return shared < 3;
+    return shared < 3 && ((a.flags | b.flags) & 1);
   }
   return Adapter::SelfPair(a, b);
 }
