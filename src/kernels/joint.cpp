@@ -304,12 +304,13 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
   BlockGeometry G;
   G.Set(B);
   // the law's constants and the points' history, component-major
-  alignas(16) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], K[N], undamaged[3][N], w0[3][N];
+  alignas(32) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], K[N], undamaged[3][N], w0[3][N];
+  alignas(32) double ft_per_dn_peak[N], face_rule[N], broken[3][N];
   for (int b = 0; b < nb; ++b) {
     const JointLaw &L = *B.law[b];
     ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
-    K[b] = L.shear_stiffness;
-    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
+    K[b] = L.shear_stiffness, ft_per_dn_peak[b] = L.ft * L.inv_dn_peak, face_rule[b] = L.face_compression != 0 ? 1.0 : 0.0;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage, broken[q][b] = 0; // broken: set below where a point is not on the fast path
   }
   // The common case for every point, two joints an instruction: an undamaged point below
   // both peaks is elastic in tension, and its tractions and shear damage are those of
@@ -351,6 +352,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     for (int q = 0; q < 3; ++q) {
       if (fast[q][b] != 0) continue;
       const JointTraction t = JointTractionAt(L, G.dn[q][b], G.s[q][b], state[q]);
+      broken[q][b]          = state[q].broken ? 1.0 : 0.0;
       B.Dmax[b] = std::max(B.Dmax[b], t.D);
       diss += G.w[b] * t.dissipated;
       sigma[q][b] = t.sigma, tau[q][b] = t.tau;
@@ -366,31 +368,65 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     for (int q = 0; q < 3; ++q)
       if (state[q].broken) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
   }
-  // The face rule of the compression (JointLaw::face_compression), one joint at a time: the
-  // compression is the larger of the penalty's energy at the midpoints (the points' tractions
-  // above) and its exact integral over the part of the face pressed in, whose forces are then
-  // added below in place of the points' compression. Only a face pressed in at a vertex and open
-  // at another can have the integral larger: where no vertex is pressed in neither has
-  // compression, and where none is open the two are equal.
-  bool   any_face = false, face[N];
-  double dI[N][3];
-  for (int b = 0; b < nb; ++b) {
-    face[b] = false;
-    if (B.law[b]->face_compression == 0 || G.ok[b] == 0) continue;
-    double g[3]; // the overlap at the vertices, -(opening)
-    for (int v = 0; v < 3; ++v) {
-      g[v] = 0;
-      for (int k = 0; k < 3; ++k) g[v] -= (B.xb[3 * v + k][b] - B.xa[3 * v + k][b]) * G.n[k][b];
+  // The face rule of the compression (JointLaw::face_compression): the compression is the
+  // larger of the penalty's energy at the midpoints (the points' tractions above) and its
+  // exact integral over the part of the face pressed in (OverlapSquared), whose forces are
+  // then added below in place of the points' compression. Only a face pressed in at a vertex
+  // and open at another can have the integral larger: where no vertex is pressed in neither
+  // has compression, and where none is open the two are equal.
+  alignas(32) double face[N], dI[3][N];
+  {
+    alignas(32) double g[3][N], mixed[N], I[N];
+    for (int b = 0; b < nb; ++b) {
+      for (int v = 0; v < 3; ++v) { // the overlap at the vertices, -(opening)
+        double gv = 0;
+        for (int k = 0; k < 3; ++k) gv -= (B.xb[3 * v + k][b] - B.xa[3 * v + k][b]) * G.n[k][b];
+        g[v][b] = G.ok[b] != 0 ? gv : 0.0; // a collapsed mid-surface has no normal
+      }
+      // factors, not bools: gcc vectorises a loop of doubles alone
+      const double in  = std::max(std::max(g[0][b] > 0 ? 1.0 : 0.0, g[1][b] > 0 ? 1.0 : 0.0), g[2][b] > 0 ? 1.0 : 0.0);
+      const double out = std::max(std::max(g[0][b] < 0 ? 1.0 : 0.0, g[1][b] < 0 ? 1.0 : 0.0), g[2][b] < 0 ? 1.0 : 0.0);
+      mixed[b]         = in * out * face_rule[b];
     }
-    if (!((g[0] > 0 || g[1] > 0 || g[2] > 0) && (g[0] < 0 || g[1] < 0 || g[2] < 0))) continue;
-    double mid = 0;
-    for (int q = 0; q < 3; ++q)
-      if (G.dn[q][b] < 0) mid += G.w[b] * G.dn[q][b] * G.dn[q][b];
-    if (!(OverlapSquared(g, 3.0 * G.w[b], dI[b]) > mid * (1 + 1e-9))) continue;
-    face[b] = any_face = true;
-    for (int q = 0; q < 3; ++q) { // the points keep their tension and shear; the face has their compression
-      if (G.dn[q][b] <= 0) sigma[q][b] = 0;
-      if (B.state[b][q].broken) sigma[q][b] = tau[q][b] = 0;
+    // OverlapSquared's I and dI for the mixed joints (0 for the others), branch-free: both
+    // of its cases run on every lane, on the vertices rotated so that the one whose sign
+    // differs from the other two comes first, and each lane keeps its own. The other lanes
+    // run on a harmless overlap, so that no lane divides by 0.
+    for (int b = 0; b < nb; ++b) {
+      // each choice as a blend with the factors 1 and 0 (as in JointBlockForces), on finite values
+      const double m = mixed[b], o = 1.0 - m;
+      const double g0 = m * g[0][b] + o, g1 = m * g[1][b] - o, g2 = m * g[2][b] - o;
+      const double i0 = g0 >= 0 ? 1.0 : 0.0, i1 = g1 >= 0 ? 1.0 : 0.0, i2 = g2 >= 0 ? 1.0 : 0.0;
+      const double s0 = (i0 != i1 ? 1.0 : 0.0) * (i0 != i2 ? 1.0 : 0.0), s1 = (i1 != i0 ? 1.0 : 0.0) * (i1 != i2 ? 1.0 : 0.0), s2 = 1.0 - s0 - s1; // the odd vertex
+      // the vertices from the odd one on: u = g[s], v = g[s + 1], x = g[s + 2]
+      const double u = s0 * g0 + s1 * g1 + s2 * g2, v = s0 * g1 + s1 * g2 + s2 * g0, x = s0 * g2 + s1 * g0 + s2 * g1;
+      const double k = 3.0 * G.w[b] / 12.0;
+      // the odd vertex alone pressed in: the corner at p = s
+      const double tq = u / (u - v), tr = u / (u - x);
+      const double cc = 2.0 * k * tq * tr * u;
+      const double I1 = cc * u, d1s = cc * (4.0 - tq - tr), d1v = cc * tq, d1x = cc * tr;
+      // the odd vertex alone open: the corner at r = s cut off, p = s + 1, q = s + 2
+      const double tp = v / (v - u), tq2 = x / (x - u);
+      const double a1 = k * tq2, a2 = k * (1.0 - tq2) * tp, s12 = v + x;
+      const double d2v = 2.0 * (a1 * (v + s12) + a2 * v * (3.0 - tp));
+      const double d2x = 2.0 * (a1 * (x + s12 * (2.0 - tq2)) + a2 * v * (1.0 - tq2));
+      const double d2s = 2.0 * (a1 * s12 * tq2 + a2 * v * (tq2 + tp));
+      const double I2  = a1 * (v * v + x * x + s12 * s12) + a2 * 2.0 * v * v;
+      const double one = m * (u >= 0 ? 1.0 : 0.0), two = m - one; // lanes not mixed keep 0
+      const double ds = one * d1s + two * d2s, dv = one * d1v + two * d2v, dx = one * d1x + two * d2x;
+      I[b]     = one * I1 + two * I2;
+      dI[0][b] = s0 * ds + s1 * dx + s2 * dv;
+      dI[1][b] = s0 * dv + s1 * ds + s2 * dx;
+      dI[2][b] = s0 * dx + s1 * dv + s2 * ds;
+    }
+    for (int b = 0; b < nb; ++b) {
+      double mid = 0;
+      for (int q = 0; q < 3; ++q) mid += (G.dn[q][b] < 0 ? 1.0 : 0.0) * (G.w[b] * G.dn[q][b] * G.dn[q][b]);
+      face[b] = mixed[b] * (I[b] > mid * (1 + 1e-9) ? 1.0 : 0.0);
+      for (int q = 0; q < 3; ++q) { // the points keep their tension and shear; the face has their compression
+        sigma[q][b] *= 1.0 - face[b] * std::max(G.dn[q][b] <= 0 ? 1.0 : 0.0, broken[q][b]);
+        tau[q][b] *= 1.0 - face[b] * broken[q][b];
+      }
     }
   }
   // the nodal forces, two joints an instruction: the traction on A (towards B; it pulls the
@@ -411,14 +447,12 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) B.fa[3 * i + k][b] = f[i][k] + f[(i + 2) % 3][k];
   }
+  for (int b = 0; b < nb; ++b) // the face's forces: d(compression)/d(g_v) pushes B away from A along n
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) B.fa[3 * v + k][b] -= face[b] * (ft_per_dn_peak[b] * dI[v][b] * G.n[k][b]);
   for (int b = 0; b < nb; ++b)
     if (G.ok[b] == 0)
-      for (int c = 0; c < 9; ++c) B.fa[c][b] = 0; // collapsed, or every point broken
-  if (any_face) // d(compression)/d(g_v) pushes B away from A along n
-    for (int b = 0; b < nb; ++b)
-      if (face[b])
-        for (int v = 0; v < 3; ++v)
-          for (int k = 0; k < 3; ++k) B.fa[3 * v + k][b] -= B.law[b]->ft * B.law[b]->inv_dn_peak * dI[b][v] * G.n[k][b];
+      for (int c = 0; c < 9; ++c) B.fa[c][b] = 0; // collapsed (n not finite), or every point broken
 }
 
 double JointElementForces(const JointLaw &L, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated) {
