@@ -363,8 +363,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   StableStep st;
   PetscCall(SimStableStep(s, scheme, sc.safety, st));
   PetscReal dt = dt_restart > 0 ? dt_restart : sc.dt > 0 ? sc.dt : st.dt, end = sc.end;
+  const PetscReal dt_chosen = dt;
   PetscCall(ConfigureTS(s, dt, end));
   PetscCall(TSGetTimeStep(s.ts, &dt));
+  const char *dt_from = dt != dt_chosen ? "-ts_dt" : dt_restart > 0 ? "from the checkpoint" : sc.dt > 0 ? "from the scene" : "auto"; // the command line wins
   PetscCall(TSGetMaxTime(s.ts, &end));
   PetscCall(PetscTime(&wbuild));
   const PetscInt nbodies = (PetscInt)sc.bodies.size();
@@ -374,7 +376,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
   char         wj[64] = "";
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
-  PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, sc.dt > 0 ? "from the scene" : "auto",
+  PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, dt_from,
                         wmax > 0 ? st.kcrit / wmax : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, wj, st.limit.c_str(), (double)end));
   const double steps_to_end = std::ceil(end / dt * (1 - 1e-12));
   PetscCheck(steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.file.c_str(), (double)end, (double)dt, steps_to_end,

@@ -1,9 +1,11 @@
 // Benchmark of the contact kernels on one core.
 //  narrow phase: PotentialContactForce on random overlapping tetrahedron pairs
-//                (target >= 2e5 pairs/s), and on touching-box but disjoint pairs;
+//                (target >= 2e5 pairs/s), on touching-box but disjoint pairs, and on
+//                barely overlapping neighbours of a mesh (a fracturing body, a pile);
 //  broad phase:  CellSearch Build + FindPairs, time per element for
 //                N = 1e3 .. 1e6 at two packing densities (target: flat within 25%).
 // Usage: bench_contact_kernels [max_n]
+//        bench_contact_kernels --narrow   (the narrow phase alone)
 //        bench_contact_kernels --broad [rounds] [max_n]
 //   --broad: broad phase only; every (N, density) cell of the table is
 //   measured `rounds` times (default 5), the sizes interleaved and rotated
@@ -76,6 +78,71 @@ void Narrow(double offset, bool want_overlap, const char *label) {
     el = Seconds(t0, Clock::now());
   } while (el < 1.0);
   std::printf("  %-38s %10.3g pairs/s  (%.2f us/pair)%s\n", label, reps * double(npairs) / el,
+              1e6 * el / (reps * double(npairs)), sink == 12345.678 ? " " : "");
+}
+
+double ThreadSeconds();
+
+// Pairs of tetrahedra of a mesh that share a vertex, an edge or a face, as a fracturing body
+// or a settled pile hands them to the narrow phase: 2 x 2 x 2 cubes of 6 tetrahedra (Kuhn's
+// split, the same in every cube), each tetrahedron with nodes of its own moved by up to `jitter`
+// (the cube's side is 1), the overlapping pairs kept. shared: the number of vertices the two
+// share in the unmoved mesh (1, 2 or 3).
+void Neighbours(int shared, double jitter, const char *label) {
+  const int perm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  std::vector<std::array<int, 4>> tets; // vertex ids of a 3 x 3 x 3 grid of points
+  const auto id = [](int i, int j, int k) { return i + 3 * j + 9 * k; };
+  for (int ci = 0; ci < 2; ++ci)
+    for (int cj = 0; cj < 2; ++cj)
+      for (int ck = 0; ck < 2; ++ck)
+        for (const auto &p : perm) {
+          int c[3] = {ci, cj, ck};
+          std::array<int, 4> t;
+          t[0] = id(c[0], c[1], c[2]);
+          ++c[p[0]], t[1] = id(c[0], c[1], c[2]);
+          ++c[p[1]], t[2] = id(c[0], c[1], c[2]);
+          ++c[p[2]], t[3] = id(c[0], c[1], c[2]);
+          tets.push_back(t);
+        }
+  std::vector<std::pair<int, int>> which;
+  for (std::size_t a = 0; a < tets.size(); ++a)
+    for (std::size_t b = a + 1; b < tets.size(); ++b) {
+      int n = 0;
+      for (int u : tets[a])
+        for (int v : tets[b]) n += u == v;
+      if (n == shared) which.emplace_back((int)a, (int)b);
+    }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const auto place = [&](const std::array<int, 4> &t) {
+    Tet4 x;
+    for (int v = 0; v < 4; ++v) x[v] = Vec3{double(t[v] % 3) + jitter * U(rng), double(t[v] / 3 % 3) + jitter * U(rng), double(t[v] / 9) + jitter * U(rng)};
+    return x;
+  };
+  const int npairs = 20000;
+  std::vector<Tet4> A, B;
+  for (std::size_t m = 0; static_cast<int>(A.size()) < npairs; ++m) {
+    const auto &w = which[m % which.size()];
+    const Tet4 a = place(tets[w.first]), b = place(tets[w.second]);
+    std::array<Vec3, 4> fa, fb;
+    if (!PotentialContactForce(a, b, 1, 1, fa, fb)) continue;
+    A.push_back(a);
+    B.push_back(b);
+  }
+  TetPairContact c;
+  double sink = 0;
+  int reps = 0;
+  const double t0 = ThreadSeconds();
+  double el = 0;
+  do {
+    for (int i = 0; i < npairs; ++i) {
+      PotentialContactForce(A[i], B[i], 1, 1, c);
+      sink += c.fa[0].x;
+    }
+    ++reps;
+    el = ThreadSeconds() - t0;
+  } while (el < 1.0);
+  std::printf("  %-38s %10.3g pairs/s  (%.2f us/pair, thread CPU time)%s\n", label, reps * double(npairs) / el,
               1e6 * el / (reps * double(npairs)), sink == 12345.678 ? " " : "");
 }
 
@@ -181,11 +248,16 @@ int BroadOnly(int rounds, int nmax) {
 int main(int argc, char **argv) {
   if (argc > 1 && std::string(argv[1]) == "--broad")
     return BroadOnly(argc > 2 ? std::atoi(argv[2]) : 5, argc > 3 ? std::atoi(argv[3]) : 1000000);
-  const int nmax = argc > 1 ? std::atoi(argv[1]) : 1000000;
+  const bool narrow_only = argc > 1 && std::string(argv[1]) == "--narrow";
+  const int  nmax        = argc > 1 && !narrow_only ? std::atoi(argv[1]) : 1000000;
   std::printf("Narrow phase: PotentialContactForce, both directions, energy included (one core)\n");
   Narrow(0.3, true, "overlapping random pairs");
   Narrow(0.0, true, "deeply overlapping (same centroid)");
   Narrow(1.6, false, "near but disjoint pairs");
+  Neighbours(1, 1e-5, "mesh neighbours by a vertex, overlapping");
+  Neighbours(2, 1e-5, "mesh neighbours by an edge, overlapping");
+  Neighbours(3, 1e-5, "mesh neighbours by a face, overlapping");
+  if (narrow_only) return 0;
   for (const bool fresh : {true, false}) {
     std::printf("\nBroad phase: CellSearch Build + FindPairs, cell d = element diameter = 1, %s\n",
                 fresh ? "a fresh configuration every repetition" : "the same configuration repeated");
