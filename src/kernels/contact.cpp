@@ -187,8 +187,20 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
     double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
     for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
       const int *tv = kFace[o];
-      PV *poly = bufA;
+      // the polygon misses the sub-tetrahedron when one of its shape functions is negative at
+      // every vertex: found first, so that a missed one is not built
       bool skip[3] = {true, true, true}, allin = true;
+      for (int i = 0; i < nf; ++i) {
+        const double *lv = face[i].n;
+        const double lo = lv[o];
+        for (int k = 0; k < 3; ++k) {
+          const double nk = lv[tv[k]] - lo;
+          skip[k] = skip[k] && nk < 0;
+          allin = allin && nk >= 0;
+        }
+      }
+      if (skip[0] || skip[1] || skip[2]) continue;
+      PV *poly = bufA;
       for (int i = 0; i < nf; ++i) {
         const double *lv = face[i].n;
         const double lo = lv[o];
@@ -200,12 +212,7 @@ void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, 
         q.l[0] = face[i].l[0];
         q.l[1] = face[i].l[1];
         q.l[2] = face[i].l[2];
-        for (int k = 0; k < 3; ++k) {
-          skip[k] = skip[k] && q.n[k] < 0;
-          allin = allin && q.n[k] >= 0;
-        }
       }
-      if (skip[0] || skip[1] || skip[2]) continue;
       // Polygon in the base plane of t with the same outward normal: its
       // energy/volume share is counted once, from t's side (doc/contact.md).
       const bool on_base = lam[fv[0]][o] == 0 && lam[fv[1]][o] == 0 && lam[fv[2]][o] == 0 && dA > 0;
