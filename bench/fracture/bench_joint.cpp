@@ -57,7 +57,7 @@ double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3]
   JointTraction t3[3];
   for (int q = 0; q < 3; ++q) {
     JointTraction &t = t3[q];
-    if (state[q].D == 0 && dn[q] <= L.dn_peak && !state[q].broken) {
+    if (state[q].D == 0 && dn[q] <= L.dn_peak && !state[q].broken()) {
       const double x = dn[q] * L.inv_dn_peak;
       const double sigma0 = dn[q] <= 0 ? 2.0 * L.ft * x : L.ft * x * (2.0 - x);
       const double fs     = dn[q] <= 0 ? L.c - sigma0 * L.tan_phi : L.c;
@@ -72,12 +72,12 @@ double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3]
     } else t = JointTractionAt(L, dn[q], s[q], state[q]);
     Dmax = std::max(Dmax, t.D);
   }
-  const bool all_broken = state[0].broken && state[1].broken && state[2].broken;
+  const bool all_broken = state[0].broken() && state[1].broken() && state[2].broken();
   for (int q = 0; q < 3; ++q) {
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];
     if (all_broken) break;
-    if (state[q].broken) t.sigma = dn[q] < 0 ? 2.0 * L.ft * dn[q] / L.dn_peak : 0.0, t.tau = 0;
+    if (state[q].broken()) t.sigma = dn[q] < 0 ? 2.0 * L.ft * dn[q] / L.dn_peak : 0.0, t.tau = 0;
     double tr[3];
     for (int k = 0; k < 3; ++k) tr[k] = t.sigma * n[k] + (s[q] > 0 ? t.tau * sv[q][k] / s[q] : 0.0);
     for (int k = 0; k < 3; ++k) {

@@ -21,6 +21,11 @@ double JointSoftening(double D) {
   return (1.0 - (ab - 1.0) / ab * e) * (a * r + b * (r2 * r2 * r2));
 }
 
+void JointState::SetDamage(double damage) {
+  D         = damage;
+  softening = damage >= 1 ? 0.0f : damage > 0 ? (float)JointSoftening(damage) : 1.0f;
+}
+
 double JointSofteningIntegral() {
   static const double Z = [] {
     const int n = 4096; // even
@@ -65,8 +70,8 @@ double ShearDissipated(const JointLaw &L, double D, double w0, double w1, double
 } // namespace
 
 double JointStoredEnergy(const JointLaw &L, double dn, double s, const JointState &st) {
-  if (st.broken || st.D >= 1) return 0;
-  const double z = st.D > 0 ? JointSoftening(st.D) : 1.0;
+  if (st.broken()) return 0;
+  const double z = st.softening;
   return (dn < 0 ? L.ft * dn * dn / L.dn_peak : 0.0) + z * TensionEnergy(L, dn) + (1.0 - st.shear_damage) * 0.5 * L.shear_stiffness * s * s;
 }
 
@@ -116,7 +121,7 @@ void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak, double *s_
 
 JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState &state) {
   JointTraction t;
-  if (state.broken) {
+  if (state.broken()) {
     t.D = 1;
     return t; // the faces are contact surfaces now
   }
@@ -130,15 +135,13 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   const float  w0  = state.shear_damage;
   state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
   t.D = state.D;
-  const double z0 = D0 > 0 ? JointSoftening(D0) : 1.0; // intact joints skip the curve
-  const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : JointSoftening(state.D)) : z0;
+  const double z0 = state.softening; // z(D0), kept with D0
+  const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : (double)(float)JointSoftening(state.D)) : z0;
+  state.softening = (float)z;
   // the shear secant: w rises to the law's where that is larger (1 once broken)
   state.shear_damage = state.D >= 1 ? 1.0f : std::max(w0, (float)SecantShearDamage(z, s / sp));
   t.dissipated = (z0 - z) * TensionEnergy(L, dn) + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp);
-  if (state.D >= 1) {
-    state.broken = true;
-    return t;
-  }
+  if (state.broken()) return t;
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
   t.tau   = (1.0 - state.shear_damage) * (L.shear_stiffness * s);
   return t;
@@ -281,16 +284,16 @@ double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *
 double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0;
-  if (state[0].broken && state[1].broken && state[2].broken) return 0;
+  if (state[0].broken() && state[1].broken() && state[2].broken()) return 0;
   double e = 0;
   if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
     for (int q = 0; q < 3; ++q)
-      if (!state[q].broken) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q]);
+      if (!state[q].broken()) e += P.w * JointStoredEnergy(L, P.dn[q], P.s[q], state[q]);
       else if (P.dn[q] < 0) e += P.w * L.ft * P.dn[q] * P.dn[q] / L.dn_peak;
     return e;
   }
   for (int q = 0; q < 3; ++q) // the law's energy without its compression term, which is Compression's (JointElementForces)
-    if (!state[q].broken) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q]) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
+    if (!state[q].broken()) e += P.w * (JointStoredEnergy(L, P.dn[q], P.s[q], state[q]) - (P.dn[q] < 0 ? L.ft * P.dn[q] * P.dn[q] / L.dn_peak : 0.0));
   double dI[3];
   bool   face;
   return e + Compression(L, P, dI, &face);
@@ -317,7 +320,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"), noinline)) int FaceRu
   alignas(32) double g[3][N], mixed[N], I[N], face_rule[N], broken[3][N];
   for (int b = 0; b < nb; ++b) {
     face_rule[b] = B.law[b]->face_compression != 0 ? 1.0 : 0.0;
-    for (int q = 0; q < 3; ++q) broken[q][b] = B.state[b][q].broken ? 1.0 : 0.0; // after the laws above
+    for (int q = 0; q < 3; ++q) broken[q][b] = B.state[b][q].broken() ? 1.0 : 0.0; // after the laws above
   }
   for (int b = 0; b < nb; ++b) {
     for (int v = 0; v < 3; ++v) { // the overlap at the vertices, -(opening)
@@ -386,7 +389,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     const JointLaw &L = *B.law[b];
     ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
     K[b] = L.shear_stiffness;
-    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken() ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
   }
   // The common case for every point, two joints an instruction: an undamaged point below
   // both peaks is elastic in tension, and its tractions and shear damage are those of
@@ -433,7 +436,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       sigma[q][b] = t.sigma, tau[q][b] = t.tau;
     }
     if (B.dissipated[b]) *B.dissipated[b] += diss;
-    if (state[0].broken && state[1].broken && state[2].broken) {
+    if (state[0].broken() && state[1].broken() && state[2].broken()) {
       G.ok[b] = 0; // the faces are contact surfaces now
       continue;
     }
@@ -441,7 +444,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
     // other and meet the contact engine deeply overlapped when the joint breaks through.
     for (int q = 0; q < 3; ++q)
-      if (state[q].broken) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
+      if (state[q].broken()) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
   }
   // the face rule of the compression (JointLaw::face_compression), in a function of its own
   alignas(32) double face[N], dI[3][N];
@@ -485,7 +488,7 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
 
 double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   if (L.face_compression != 0) return FaceJointEnergy(L, xa, xb, state);
-  if (state[0].broken && state[1].broken && state[2].broken) return 0;
+  if (state[0].broken() && state[1].broken() && state[2].broken()) return 0;
   JointBlock B;
   B.n = 1;
   for (int i = 0; i < 3; ++i)
@@ -495,7 +498,7 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
   if (G.ok[0] == 0) return 0;
   double e = 0;
   for (int q = 0; q < 3; ++q)
-    if (!state[q].broken) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q]);
+    if (!state[q].broken()) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q]);
     else if (G.dn[q][0] < 0) e += G.w[0] * L.ft * G.dn[q][0] * G.dn[q][0] / L.dn_peak; // the compression penalty it keeps
   return e;
 }

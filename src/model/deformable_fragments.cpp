@@ -101,7 +101,7 @@ struct Received {
   }
 };
 
-bool JointBroken(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].broken && st[1].broken && st[2].broken; }
+bool JointBroken(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].broken() && st[1].broken() && st[2].broken(); }
 // A joint with a point beyond its peak (softening or broken).
 bool JointDamaged(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].D > 0 || st[1].D > 0 || st[2].D > 0; }
 

@@ -279,7 +279,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
     fdem::kernels::JointBlockForces(B);
     for (int b = 0; b < B.n; ++b) {
       const std::size_t j = j0 + b;
-      if (!d->jgone[j] && d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken) { // it broke now
+      if (!d->jgone[j] && d->jstate[j][0].broken() && d->jstate[j][1].broken() && d->jstate[j][2].broken()) { // it broke now
         FDEMJointBreak e;
         e.joint = d->jgid[j];
         e.body  = d->jbody[j];
@@ -385,7 +385,7 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   std::vector<PetscReal> D(3 * d->jstate.size());
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].broken ? 1.0 : d->jstate[j][q].D;
+    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].broken() ? 1.0 : d->jstate[j][q].D;
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
@@ -414,11 +414,10 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
     for (int q = 0; q < 3; ++q) {
       const PetscReal v = D[3 * j + q], w = W[3 * j + q];
       if (!(v >= 0 && v <= 1 && w >= 0 && w <= 1) && bad < 0) bad = d->jgid[j];
-      d->jstate[j][q].D            = v;
+      d->jstate[j][q].SetDamage(v);
       d->jstate[j][q].shear_damage = (float)w;
-      d->jstate[j][q].broken       = v >= 1;
     }
-    d->jgone[j] = d->jstate[j][0].broken && d->jstate[j][1].broken && d->jstate[j][2].broken; // not reported as a break
+    d->jgone[j] = d->jstate[j][0].broken() && d->jstate[j][1].broken() && d->jstate[j][2].broken(); // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
@@ -493,7 +492,7 @@ PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable d, PetscInt *joints, P
   for (const auto &st : d->jstate) {
     bool all = true;
     for (const auto &p : st) {
-      all = all && p.broken;
+      all = all && p.broken();
       D   = std::fmax(D, p.D);
     }
     nb += all ? 1 : 0;

@@ -78,7 +78,7 @@ PetscErrorCode Break(FDEMDeformable d) {
     const Vec3   off = (1e-3 / norm(n)) * n;
     const bool   crack = std::fabs(c.z - 0.2) < 1e-9 && std::fabs(n.x) + std::fabs(n.y) < 1e-12 && c.x > 0.7 && c.y < 0.2;
     if (Region(c + off) != Region(c - off) || crack)
-      for (auto &s : d->jstate[j]) s.D = 1, s.broken = true;
+      for (auto &s : d->jstate[j]) s.SetDamage(1);
   }
   PetscFunctionReturn(0);
 }

@@ -66,7 +66,7 @@ TEST(Joint, ModeIFollowsTheLawPointByPoint) {
   }
   JointState s3;
   EXPECT_EQ(JointTractionAt(L, 1.0001 * L.dn_crit, 0, s3).sigma, 0);
-  EXPECT_TRUE(s3.broken);
+  EXPECT_TRUE(s3.broken());
 }
 
 TEST(Joint, DissipatedEnergyEqualsTheFractureEnergies) {
@@ -77,7 +77,7 @@ TEST(Joint, DissipatedEnergyEqualsTheFractureEnergies) {
     double sp, sc;
     JointSlipLimits(L, 0, &sp, &sc);
     const double wII = Work(L, true, 1.01 * sc, 200000, sII);
-    EXPECT_TRUE(sI.broken && sII.broken);
+    EXPECT_TRUE(sI.broken() && sII.broken());
     EXPECT_NEAR(wI / 10.0, 1.0, 0.01) << "mode I, h = " << h;
     EXPECT_NEAR(wII / 50.0, 1.0, 0.01) << "mode II, h = " << h;
   }
@@ -91,7 +91,7 @@ TEST(Joint, DamageNeverHealsAndMixedModeAddsUp) {
   // unloading to the peak opening keeps D = 0.5: the traction is z(0.5) f_t, not f_t
   const JointTraction back = JointTractionAt(L, L.dn_peak, 0, st);
   EXPECT_NEAR(back.D, 0.5, 1e-12);
-  EXPECT_NEAR(back.sigma, JointSoftening(0.5) * 1e6, 1e-3);
+  EXPECT_NEAR(back.sigma, JointSoftening(0.5) * 1e6, 1e6 * 6e-8); // z(D) is kept as a float (JointState::softening)
   EXPECT_NEAR(back.sigma, peak, 1e-3); // same damage, both beyond the hardening branch
   // mode I and II damage of 0.6 each combine to sqrt(0.72)
   double sp, sc;
@@ -384,7 +384,7 @@ TEST(Joint, HingedJointResistsItsPressedCornerOverTheFace) {
   L.face_compression = 1;
   const double   d = 0.1 * L.dn_peak, A = 0.005, w = A / 3, k = L.penalty / L.h; // corner depth, area, weight of a point, p / h
   JointState     st[3];
-  st[0].D = st[2].D = 1, st[0].broken = st[2].broken = true; // edges (0,1) and (2,0) broken; (1,2) holds
+  st[0].SetDamage(1), st[2].SetDamage(1); // edges (0,1) and (2,0) broken; (1,2) holds
   const double dz[3] = {-d, 2 * d, 2 * d};                   // midpoints open: d/2, 2d, d/2
   double       xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
   Hinge(dz, xa, xb);

@@ -72,7 +72,7 @@ PetscErrorCode BreakMiddle(FDEMDeformable d, PetscInt *broken) {
     bool on = true;
     for (int i = 0; i < 3; ++i) on = on && std::fabs(PetscRealPart(x[3 * d->jnode_a[j][i]]) - L / 2) < 1e-12;
     if (!on) continue;
-    for (auto &s : d->jstate[j]) s.D = 1, s.broken = true;
+    for (auto &s : d->jstate[j]) s.SetDamage(1);
     ++n;
   }
   PetscCallMPI(MPIU_Allreduce(&n, broken, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)d->dm)));

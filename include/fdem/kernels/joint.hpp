@@ -63,13 +63,21 @@ JointLaw MakeJointLaw(const JointMaterial &m, double h);
 // The history of one joint point: the largest damage reached and the shear damage (neither
 // ever decreases).
 struct JointState {
-  double D = 0;
+  double D = 0; // set it with SetDamage, which keeps `softening` with it
   // w in [0, 1]: the shear traction is (1 - w) K s. Each evaluation raises it to the law's
   // secant, 1 - tau_law / (K s), where that is larger (doc/fracture.md, "Shear"). A float,
   // so that a point's history stays 16 bytes: the law rounds the secant to it, and the
   // tractions, the stored and the dissipated energy all use the rounded value.
   float shear_damage = 0;
-  bool broken = false;
+  // z(D) rounded to a float, kept with D so that a softening point does not evaluate the curve
+  // (an exp) at every evaluation: 1 while D = 0, 0 once broken. The tractions, the stored and
+  // the dissipated energy all use the rounded value.
+  float softening = 1;
+  // D = 1: the point carries nothing of the law (while its joint holds, a joint element keeps
+  // the compression penalty at its broken points).
+  bool broken() const { return D >= 1; }
+  // D and its softening factor together (a restart, a test); damage in [0, 1].
+  void SetDamage(double damage);
 };
 
 struct JointTraction {
@@ -120,7 +128,7 @@ namespace fdem::kernels {
 // split into opening along its unit normal and slip; each point has its own
 // history (state[3]) and weighs a third of the mid-surface area. Adds the
 // nodal forces into fa[3][3] and fb[3][3] (fa = -fb summed: no net force) and
-// returns the largest damage. A broken point (state.broken) adds nothing.
+// returns the largest damage. A broken point (state.broken()) adds nothing.
 // When dissipated is given, the energy (J) dissipated by this evaluation's growth of
 // the points' damage is added to it.
 double JointElementForces(const JointLaw &law, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated = nullptr);
