@@ -314,14 +314,15 @@ double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb
 // ran 1.3 times slower in bench_joint with this code inline).
 __attribute__((target_clones("arch=x86-64-v3", "default"), noinline)) int FaceRule(const JointBlock &B, const BlockGeometry &G, double (*__restrict sigma)[N], double (*__restrict tau)[N], double *__restrict face, double (*__restrict dI)[N]) {
   const int nb = B.n;
-  int       any_face = 0, any_rule = 0;
-  for (int b = 0; b < nb; ++b) face[b] = 0, any_rule |= B.law[b]->face_compression != 0;
-  if (!any_rule) return 0; // the points' rule (-fdem_joint_face_compression false)
+  int                any_face = 0, any_rule = 0;
   alignas(32) double g[3][N], mixed[N], I[N], face_rule[N], broken[3][N];
   for (int b = 0; b < nb; ++b) {
-    face_rule[b] = B.law[b]->face_compression != 0 ? 1.0 : 0.0;
-    for (int q = 0; q < 3; ++q) broken[q][b] = B.state[b][q].broken() ? 1.0 : 0.0; // after the laws above
+    face[b] = 0, face_rule[b] = B.law[b]->face_compression != 0 ? 1.0 : 0.0;
+    any_rule |= face_rule[b] != 0;
   }
+  if (!any_rule) return 0; // the points' rule (-fdem_joint_face_compression false)
+  for (int b = 0; b < nb; ++b)
+    for (int q = 0; q < 3; ++q) broken[q][b] = B.state[b][q].broken() ? 1.0 : 0.0; // after the laws above
   for (int b = 0; b < nb; ++b) {
     for (int v = 0; v < 3; ++v) { // the overlap at the vertices, -(opening)
       double gv = 0;
@@ -389,7 +390,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     const JointLaw &L = *B.law[b];
     ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
     K[b] = L.shear_stiffness;
-    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 && !B.state[b][q].broken() ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
   }
   // The common case for every point, two joints an instruction: an undamaged point below
   // both peaks is elastic in tension, and its tractions and shear damage are those of

@@ -385,7 +385,7 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   std::vector<PetscReal> D(3 * d->jstate.size());
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].broken() ? 1.0 : d->jstate[j][q].D;
+    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].D; // 1 once broken
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;

@@ -24,7 +24,7 @@ static PetscErrorCode CellDamage(FDEMDeformable d, std::vector<PetscReal> &cd) {
   std::vector<PetscReal> node(3 * d->nlocal, 0.0), leaf(9 * d->jstate.size());
   for (size_t j = 0; j < d->jstate.size(); ++j) {
     PetscReal D = 0;
-    for (const auto &p : d->jstate[j]) D = std::fmax(D, p.broken() ? 1.0 : p.D);
+    for (const auto &p : d->jstate[j]) D = std::fmax(D, p.D); // 1 once broken
     for (int k = 0; k < 9; ++k) leaf[9 * j + k] = D;
     for (int a = 0; a < 3; ++a) node[3 * d->jnode_a[j][a]] = std::fmax(node[3 * d->jnode_a[j][a]], D);
   }
