@@ -12,6 +12,10 @@
 #include <fdem.h>
 #include <fdem/deformable.h>
 #include <fdem/kernels/cst.hpp>
+#include <fdem/kernels/tetmesh.hpp>
+#include <algorithm>
+#include <numeric>
+#include <random>
 
 #include <cmath>
 #include <ctime>
@@ -104,6 +108,7 @@ int main(int argc, char **argv) {
   PetscInt          n = 55, repeats = 5, steps = 20, stream_mb = 64, stream_repeats = 10;
   char              state_out[PETSC_MAX_PATH_LEN] = "";
   PetscReal         visc = 0;
+  PetscBool         shuffle = PETSC_FALSE;
   FDEMMaterialModel model = FDEM_MATERIAL_MUNJIZA_CST;
   PetscMPIInt       size;
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
@@ -117,6 +122,7 @@ int main(int argc, char **argv) {
   PetscCall(PetscOptionsReal("-visc", "viscosity mu", "", visc, &visc, nullptr));
   PetscCall(PetscOptionsInt("-stream_mb", "STREAM triad: MB per array (3 arrays per rank)", "", stream_mb, &stream_mb, nullptr));
   PetscCall(PetscOptionsInt("-stream_repeats", "STREAM triad passes timed (best taken)", "", stream_repeats, &stream_repeats, nullptr));
+  PetscCall(PetscOptionsBool("-shuffle", "give the box's nodes and tetrahedra in a random order (as an unordered mesh file would)", "", shuffle, &shuffle, nullptr));
   PetscCall(PetscOptionsString("-state_out", "write the final state [x | v] (PETSc binary, global node order) to this file, to compare builds", "", state_out, state_out, sizeof(state_out), nullptr));
   PetscOptionsEnd();
   PetscCheck(n >= 1 && n <= 400, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-n %d: give 1..400 cells per side", (int)n);
@@ -131,7 +137,25 @@ int main(int argc, char **argv) {
   PetscCall(FDEMDeformableCreate(PETSC_COMM_WORLD, &d));
   PetscCall(FDEMDeformableAddMaterial(d, "rock", 1.0, 0.25, 1.0, visc, model));
   const PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
-  PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, n, n, n));
+  if (!shuffle) PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, n, n, n));
+  else {
+    // the same box, its nodes and tetrahedra numbered in a random order (fixed seed)
+    const fdem::kernels::TetMesh m = fdem::kernels::MakeBoxMesh({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, (int)n, (int)n, (int)n);
+    std::mt19937_64       rng(12345);
+    std::vector<PetscInt> pn(m.nodes.size()), pt(m.tets.size()); // new number of each node; old tetrahedron of each new one
+    std::iota(pn.begin(), pn.end(), 0);
+    std::iota(pt.begin(), pt.end(), 0);
+    std::shuffle(pn.begin(), pn.end(), rng);
+    std::shuffle(pt.begin(), pt.end(), rng);
+    std::vector<PetscReal> xyz(3 * m.nodes.size());
+    std::vector<PetscInt>  tets(4 * m.tets.size()), body(m.tets.size(), 0);
+    for (std::size_t i = 0; i < m.nodes.size(); ++i)
+      for (int k = 0; k < 3; ++k) xyz[3 * pn[i] + k] = m.nodes[i][k];
+    for (std::size_t e = 0; e < m.tets.size(); ++e)
+      for (int a = 0; a < 4; ++a) tets[4 * e + a] = pn[m.tets[pt[e]][a]];
+    const char *names[] = {"box"};
+    PetscCall(FDEMDeformableSetMesh(d, (PetscInt)m.nodes.size(), xyz.data(), (PetscInt)m.tets.size(), tets.data(), body.data(), 1, names));
+  }
   PetscCall(FDEMDeformableSetFromOptions(d));
   PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
   PetscCall(PetscTime(&t0));

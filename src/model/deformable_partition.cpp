@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -25,6 +26,19 @@ namespace {
 
 // The METIS weight of an element of material `mat`: its model's relative cost.
 idx_t Weight(FDEMDeformable d, int mat) { return fdem::kernels::MaterialModels()[d->materials[mat].model].cost; }
+
+// The position of point x on a Z-order (Morton) curve through the box [lo, hi]:
+// each coordinate scaled to 21 bits, the bits interleaved (x lowest). Points
+// close on the curve are close in space, so cells sorted by it are local.
+std::uint64_t ZOrderKey(const Vec3 &x, const Vec3 &lo, const Vec3 &hi) {
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double  w = hi[k] > lo[k] ? (x[k] - lo[k]) / (hi[k] - lo[k]) : 0.0;
+    std::uint64_t q = (std::uint64_t)std::clamp(w * 2097151.0, 0.0, 2097151.0); // 2^21 - 1
+    for (int b = 0; b < 21; ++b) key |= ((q >> b) & 1u) << (3 * b + k);
+  }
+  return key;
+}
 
 // Rank 0: one part per rank for every element (throws if METIS fails).
 void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vector<PetscInt> &part) {
@@ -84,23 +98,49 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
   PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
-  // local cells, sorted by material then global id (the kernel's order)
+  PetscCall(DMGetCoordinateSection(dm, &cs));
+  PetscCall(DMGetCoordinatesLocal(dm, &coords));
+  // local cells, sorted by material, then along a Z-order curve through their
+  // centroids, then by global id (the kernel's order): consecutive cells are
+  // neighbours in space, whatever order the mesh was given in
   const PetscInt        nc = cEnd - cStart;
   std::vector<PetscInt> order(nc);
+  std::vector<std::uint64_t> zkey(nc);
+  {
+    std::vector<Vec3> cen(nc);
+    Vec3              lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    PetscCall(VecGetArrayRead(coords, &ca));
+    for (PetscInt c = 0; c < nc; ++c) {
+      const PetscInt *cone;
+      PetscInt        csize, coff;
+      PetscCall(DMPlexGetConeSize(dm, cStart + c, &csize));
+      PetscCall(DMPlexGetCone(dm, cStart + c, &cone));
+      Vec3 m(0, 0, 0);
+      for (PetscInt k = 0; k < csize; ++k) {
+        PetscCall(PetscSectionGetOffset(cs, cone[k], &coff));
+        m += Vec3(ca[coff], ca[coff + 1], ca[coff + 2]);
+      }
+      cen[c] = m / (double)std::max<PetscInt>(csize, 1);
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], cen[c][k]), hi[k] = std::max(hi[k], cen[c][k]);
+    }
+    PetscCall(VecRestoreArrayRead(coords, &ca));
+    for (PetscInt c = 0; c < nc; ++c) zkey[c] = ZOrderKey(cen[c], lo, hi);
+  }
   std::iota(order.begin(), order.end(), 0);
   auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };
   std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) {
     const int ma = matof(a), mb = matof(b);
-    return ma != mb ? ma < mb : orig[cStart + a] < orig[cStart + b];
+    if (ma != mb) return ma < mb;
+    return zkey[a] != zkey[b] ? zkey[a] < zkey[b] : orig[cStart + a] < orig[cStart + b];
   });
   PetscCall(PetscSectionCreate(d->comm, &s));
   PetscCall(PetscSectionSetChart(s, pStart, pEnd));
   for (PetscInt p = vStart; p < vEnd; ++p) PetscCall(PetscSectionSetDof(s, p, 3));
-  if (d->size > 1) {
-    // Distributed: number the vertices in the order the sorted cells first
-    // use them, so that the kernel's gathers and sums run through the node
-    // vectors nearly in order (DMPlex's migrated numbering scatters them).
-    // One rank keeps the input order (and its outputs byte for byte).
+  {
+    // number the vertices in the order the sorted cells first use them, so
+    // that the kernel's gathers and sums run through the node vectors nearly
+    // in order (neither a mesh file's numbering nor DMPlex's migrated one
+    // need be local)
     std::vector<PetscInt> perm;
     std::vector<char>     seen(vEnd - vStart, 0);
     perm.reserve(pEnd - pStart);
@@ -143,8 +183,6 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   d->owned_gid.assign(d->nown, -1);
   d->owned_of_gid.clear();
   std::vector<PetscInt> lof(vEnd - vStart); // local node of vertex
-  PetscCall(DMGetCoordinateSection(dm, &cs));
-  PetscCall(DMGetCoordinatesLocal(dm, &coords));
   PetscCall(VecGetArrayRead(coords, &ca));
   std::vector<Vec3> Xl(d->nlocal);
   for (PetscInt p = vStart; p < vEnd; ++p) {
