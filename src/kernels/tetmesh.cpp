@@ -64,6 +64,44 @@ int OrientTets(const std::vector<Vec3> &X, std::vector<std::array<int, 4>> &tets
 
 int OrientTets(TetMesh &mesh) { return OrientTets(mesh.nodes, mesh.tets, mesh.body); }
 
+// ---------------------------------------------------------------- ordering
+// Skilling's transform (J. Skilling, "Programming the Hilbert curve", AIP
+// Conf. Proc. 707, 381, 2004): undo the curve's rotations and reflections
+// level by level, Gray-code the result, then interleave the bits.
+std::uint64_t HilbertIndex(const std::uint32_t X_in[3], int bits) {
+  std::uint32_t X[3] = {X_in[0], X_in[1], X_in[2]};
+  for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1) {
+    const std::uint32_t p = q - 1;
+    for (int i = 0; i < 3; ++i) {
+      if (X[i] & q) X[0] ^= p;
+      else {
+        const std::uint32_t t = (X[0] ^ X[i]) & p;
+        X[0] ^= t, X[i] ^= t;
+      }
+    }
+  }
+  for (int i = 1; i < 3; ++i) X[i] ^= X[i - 1];
+  std::uint32_t t = 0;
+  for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1)
+    if (X[2] & q) t ^= q - 1;
+  for (int i = 0; i < 3; ++i) X[i] ^= t;
+  std::uint64_t key = 0;
+  for (int b = bits - 1; b >= 0; --b)
+    for (int i = 0; i < 3; ++i) key = (key << 1) | ((X[i] >> b) & 1u);
+  return key;
+}
+
+std::uint64_t HilbertKey(const Vec3 &x, const Vec3 &lo, const Vec3 &hi) {
+  constexpr int    kBits = 21;
+  constexpr double kTop  = (1u << kBits) - 1;
+  std::uint32_t    X[3];
+  for (int k = 0; k < 3; ++k) {
+    const double w = hi[k] > lo[k] ? (x[k] - lo[k]) / (hi[k] - lo[k]) : 0.0;
+    X[k]           = (std::uint32_t)(w >= 0 ? (w <= 1 ? w * kTop : kTop) : 0.0); // NaN to 0
+  }
+  return HilbertIndex(X, kBits);
+}
+
 // ---------------------------------------------------------------- generators
 TetMesh MakeBoxMesh(const Vec3 &lo, const Vec3 &hi, int nx, int ny, int nz) {
   if (nx < 1 || ny < 1 || nz < 1)

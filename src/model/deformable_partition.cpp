@@ -27,19 +27,6 @@ namespace {
 // The METIS weight of an element of material `mat`: its model's relative cost.
 idx_t Weight(FDEMDeformable d, int mat) { return fdem::kernels::MaterialModels()[d->materials[mat].model].cost; }
 
-// The position of point x on a Z-order (Morton) curve through the box [lo, hi]:
-// each coordinate scaled to 21 bits, the bits interleaved (x lowest). Points
-// close on the curve are close in space, so cells sorted by it are local.
-std::uint64_t ZOrderKey(const Vec3 &x, const Vec3 &lo, const Vec3 &hi) {
-  std::uint64_t key = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double  w = hi[k] > lo[k] ? (x[k] - lo[k]) / (hi[k] - lo[k]) : 0.0;
-    std::uint64_t q = (std::uint64_t)std::clamp(w * 2097151.0, 0.0, 2097151.0); // 2^21 - 1
-    for (int b = 0; b < 21; ++b) key |= ((q >> b) & 1u) << (3 * b + k);
-  }
-  return key;
-}
-
 // Rank 0: one part per rank for every element (throws if METIS fails).
 void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vector<PetscInt> &part) {
   const auto &M  = d->mesh;
@@ -100,7 +87,7 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
   PetscCall(DMGetCoordinateSection(dm, &cs));
   PetscCall(DMGetCoordinatesLocal(dm, &coords));
-  // local cells, sorted by material, then along a Z-order curve through their
+  // local cells, sorted by material, then along a Hilbert curve through their
   // centroids, then by global id (the kernel's order): consecutive cells are
   // neighbours in space, whatever order the mesh was given in
   const PetscInt        nc = cEnd - cStart;
@@ -124,7 +111,7 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], cen[c][k]), hi[k] = std::max(hi[k], cen[c][k]);
     }
     PetscCall(VecRestoreArrayRead(coords, &ca));
-    for (PetscInt c = 0; c < nc; ++c) zkey[c] = ZOrderKey(cen[c], lo, hi);
+    for (PetscInt c = 0; c < nc; ++c) zkey[c] = fdem::kernels::HilbertKey(cen[c], lo, hi);
   }
   std::iota(order.begin(), order.end(), 0);
   auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };

@@ -501,3 +501,33 @@ TEST(Gmsh, RejectsOverlappingTetrahedra) {
   const TetMesh m = Parse(fmt22 + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 1 2 3 7\n$EndElements\n");
   EXPECT_EQ(m.tet_line, (std::vector<long>{16, 17}));
 }
+
+// The Hilbert index is a bijection of the 2^(3 bits) cells of a cube onto
+// 0 .. 2^(3 bits) - 1, and cells of consecutive indices share a face.
+TEST(Ordering, HilbertIndexWalksFaceNeighbours) {
+  for (int bits = 1; bits <= 5; ++bits) {
+    const std::uint32_t          n = 1u << bits;
+    std::vector<std::array<int, 3>> at(std::size_t(n) * n * n, {-1, -1, -1});
+    for (std::uint32_t x = 0; x < n; ++x)
+      for (std::uint32_t y = 0; y < n; ++y)
+        for (std::uint32_t z = 0; z < n; ++z) {
+          const std::uint32_t X[3] = {x, y, z};
+          const std::uint64_t h    = HilbertIndex(X, bits);
+          ASSERT_LT(h, at.size()) << "bits " << bits;
+          ASSERT_EQ(at[h][0], -1) << "bits " << bits << ": index " << h << " given twice";
+          at[h] = {(int)x, (int)y, (int)z};
+        }
+    for (std::size_t h = 1; h < at.size(); ++h) {
+      const int d = std::abs(at[h][0] - at[h - 1][0]) + std::abs(at[h][1] - at[h - 1][1]) + std::abs(at[h][2] - at[h - 1][2]);
+      ASSERT_EQ(d, 1) << "bits " << bits << ": indices " << h - 1 << " and " << h << " are not face neighbours";
+    }
+  }
+  // HilbertKey scales a box onto 2^21 cells per side: its corners and its
+  // centre land where HilbertIndex puts those cells; outside points are clamped
+  const Vec3          lo(-1, 2, 0), hi(3, 4, 1e-9);
+  const std::uint32_t top = (1u << 21) - 1, c0[3] = {0, 0, 0}, c1[3] = {top, top, top};
+  EXPECT_EQ(HilbertKey(lo, lo, hi), HilbertIndex(c0, 21));
+  EXPECT_EQ(HilbertKey(hi, lo, hi), HilbertIndex(c1, 21));
+  EXPECT_EQ(HilbertKey(Vec3(-5, 0, -1), lo, hi), HilbertIndex(c0, 21));
+  EXPECT_EQ(HilbertKey(Vec3(std::nan(""), 0, -1), lo, hi), HilbertIndex(c0, 21));
+}

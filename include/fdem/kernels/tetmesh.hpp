@@ -8,6 +8,7 @@
 // the opposite sign: swap n1 and n2 when handing cells to DMPlex.)
 #pragma once
 #include <array>
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -44,6 +45,16 @@ double TotalVolume(const TetMesh &mesh);
 int OrientTets(TetMesh &mesh);
 int OrientTets(const std::vector<Vec3> &nodes, std::vector<std::array<int, 4>> &tets,
                const std::vector<int> &body = {});
+
+// Index along a Hilbert curve through a cube of 2^bits cells per side (bits
+// 1..21) of the cell (X[0], X[1], X[2]), each < 2^bits: a bijection onto
+// 0 .. 2^(3 bits) - 1 in which cells of consecutive indices share a face.
+std::uint64_t HilbertIndex(const std::uint32_t X[3], int bits);
+// HilbertIndex of point x in the box [lo, hi] cut into 2^21 cells per side
+// (points outside are clamped to it; a flat side counts as one cell). Sorting
+// elements by the key of their centroids puts neighbours in space next to
+// each other in memory.
+std::uint64_t HilbertKey(const Vec3 &x, const Vec3 &lo, const Vec3 &hi);
 
 // Structured box [lo, hi] with nx*ny*nz cells, each cut into 6 tetrahedra
 // around its main diagonal (Kuhn subdivision, conforming across cells).
