@@ -9,6 +9,7 @@
 // on every rank at once (so that 2 ranks share the memory system as the step
 // does). Options: -n 55 (box cells per side, 6 n^3 tetrahedra: 998 250 for 55)
 // -repeats 5 (force evaluations, and runs of -steps steps; the best taken) -steps 20 -model munjiza_cst -visc 0 -stream_mb 64 -stream_repeats 10
+// -shuffle (the box numbered in a random order, as an unordered mesh file would be)
 #include <fdem.h>
 #include <fdem/deformable.h>
 #include <fdem/kernels/cst.hpp>
