@@ -92,7 +92,7 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   // neighbours in space, whatever order the mesh was given in
   const PetscInt        nc = cEnd - cStart;
   std::vector<PetscInt> order(nc);
-  std::vector<std::uint64_t> zkey(nc);
+  std::vector<std::uint64_t> hkey(nc);
   {
     std::vector<Vec3> cen(nc);
     Vec3              lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
@@ -111,14 +111,14 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], cen[c][k]), hi[k] = std::max(hi[k], cen[c][k]);
     }
     PetscCall(VecRestoreArrayRead(coords, &ca));
-    for (PetscInt c = 0; c < nc; ++c) zkey[c] = fdem::kernels::HilbertKey(cen[c], lo, hi);
+    for (PetscInt c = 0; c < nc; ++c) hkey[c] = fdem::kernels::HilbertKey(cen[c], lo, hi);
   }
   std::iota(order.begin(), order.end(), 0);
   auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };
   std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) {
     const int ma = matof(a), mb = matof(b);
     if (ma != mb) return ma < mb;
-    return zkey[a] != zkey[b] ? zkey[a] < zkey[b] : orig[cStart + a] < orig[cStart + b];
+    return hkey[a] != hkey[b] ? hkey[a] < hkey[b] : orig[cStart + a] < orig[cStart + b];
   });
   PetscCall(PetscSectionCreate(d->comm, &s));
   PetscCall(PetscSectionSetChart(s, pStart, pEnd));
