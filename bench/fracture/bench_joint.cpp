@@ -72,7 +72,7 @@ double Reference(const JointLaw &L, const double xa[3][3], const double xb[3][3]
     } else t = JointTractionAt(L, dn[q], s[q], state[q]);
     Dmax = std::max(Dmax, t.D);
   }
-  const bool all_broken = state[0].broken() && state[1].broken() && state[2].broken();
+  const bool all_broken = JointBroken(state);
   for (int q = 0; q < 3; ++q) {
     const int     i = q, j = (q + 1) % 3;
     JointTraction t = t3[q];

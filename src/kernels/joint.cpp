@@ -136,8 +136,8 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   state.D = std::max(state.D, std::min(1.0, std::sqrt(DI * DI + DII * DII)));
   t.D = state.D;
   const double z0 = state.softening; // z(D0), kept with D0
-  const double z  = state.D > D0 ? (state.D >= 1 ? 0.0 : (double)(float)JointSoftening(state.D)) : z0;
-  state.softening = (float)z;
+  if (state.D > D0) state.SetDamage(state.D);
+  const double z = state.softening;
   // the shear secant: w rises to the law's where that is larger (1 once broken)
   state.shear_damage = state.D >= 1 ? 1.0f : std::max(w0, (float)SecantShearDamage(z, s / sp));
   t.dissipated = (z0 - z) * TensionEnergy(L, dn) + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp);
@@ -284,7 +284,7 @@ double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *
 double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0;
-  if (state[0].broken() && state[1].broken() && state[2].broken()) return 0;
+  if (JointBroken(state)) return 0;
   double e = 0;
   if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
     for (int q = 0; q < 3; ++q)
@@ -437,7 +437,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       sigma[q][b] = t.sigma, tau[q][b] = t.tau;
     }
     if (B.dissipated[b]) *B.dissipated[b] += diss;
-    if (state[0].broken() && state[1].broken() && state[2].broken()) {
+    if (JointBroken(state)) {
       G.ok[b] = 0; // the faces are contact surfaces now
       continue;
     }
@@ -489,7 +489,7 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
 
 double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   if (L.face_compression != 0) return FaceJointEnergy(L, xa, xb, state);
-  if (state[0].broken() && state[1].broken() && state[2].broken()) return 0;
+  if (JointBroken(state)) return 0;
   JointBlock B;
   B.n = 1;
   for (int i = 0; i < 3; ++i)

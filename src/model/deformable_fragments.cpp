@@ -101,7 +101,6 @@ struct Received {
   }
 };
 
-bool JointBroken(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].broken() && st[1].broken() && st[2].broken(); }
 // A joint with a point beyond its peak (softening or broken).
 bool JointDamaged(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].D > 0 || st[1].D > 0 || st[2].D > 0; }
 
@@ -185,7 +184,7 @@ PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nb
   *nbroken = *ndamaged = 0;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   PetscInt n[2] = {0, 0}, all[2];
-  for (const auto &st : d->jstate) n[0] += JointBroken(st) ? 1 : 0, n[1] += JointDamaged(st) ? 1 : 0;
+  for (const auto &st : d->jstate) n[0] += fdem::kernels::JointBroken(st.data()) ? 1 : 0, n[1] += JointDamaged(st) ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(n, all, 2, MPIU_INT, MPI_SUM, d->comm));
   *nbroken = all[0], *ndamaged = all[1];
   PetscFunctionReturn(0);
@@ -232,7 +231,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     PetscCall(PetscSFBcastEnd(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
     for (PetscInt j = 0; j < nj; ++j) {
       PetscInt *L      = &leaf[9 * (std::size_t)j];
-      const bool broken = JointBroken(d->jstate[j]), remote = d->jnode_b[j][0] < 0, hurt = JointDamaged(d->jstate[j]);
+      const bool broken = fdem::kernels::JointBroken(d->jstate[j].data()), remote = d->jnode_b[j][0] < 0, hurt = JointDamaged(d->jstate[j]);
       int        oa = 6, ob = 6, slot[3];
       for (int i = 0; i < 3; ++i) {
         oa -= (int)node_slot[d->jnode_a[j][i]];
@@ -288,7 +287,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         }
   }
   for (PetscInt j = 0; j < nj; ++j)
-    if (d->jnode_b[j][0] >= 0 && !JointBroken(d->jstate[j])) {
+    if (d->jnode_b[j][0] >= 0 && !fdem::kernels::JointBroken(d->jstate[j].data())) {
       for (int i = 0; i < 3; ++i) nodes.Unite(d->jnode_a[j][i], d->jnode_b[j][i]);
       cells.Unite(ca[j], node_cell[d->jnode_b[j][0]]);
     }

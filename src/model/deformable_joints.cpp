@@ -279,7 +279,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
     fdem::kernels::JointBlockForces(B);
     for (int b = 0; b < B.n; ++b) {
       const std::size_t j = j0 + b;
-      if (!d->jgone[j] && d->jstate[j][0].broken() && d->jstate[j][1].broken() && d->jstate[j][2].broken()) { // it broke now
+      if (!d->jgone[j] && fdem::kernels::JointBroken(d->jstate[j].data())) { // it broke now
         FDEMJointBreak e;
         e.joint = d->jgid[j];
         e.body  = d->jbody[j];
@@ -417,7 +417,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       d->jstate[j][q].SetDamage(v);
       d->jstate[j][q].shear_damage = (float)w;
     }
-    d->jgone[j] = d->jstate[j][0].broken() && d->jstate[j][1].broken() && d->jstate[j][2].broken(); // not reported as a break
+    d->jgone[j] = fdem::kernels::JointBroken(d->jstate[j].data()); // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));

@@ -80,6 +80,9 @@ struct JointState {
   void SetDamage(double damage);
 };
 
+// A joint element is broken when all three of its points are: its faces are contact surfaces.
+inline bool JointBroken(const JointState state[3]) { return state[0].broken() && state[1].broken() && state[2].broken(); }
+
 struct JointTraction {
   double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the penalty 2 f_t dn / dn_peak)
   double tau = 0;   // shear traction, Pa, in the direction of the slip (s >= 0 given)
