@@ -81,7 +81,7 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
   PetscCall(FDEMRigidSetFromOptions(s.rb));
   PetscInt moving = 0, spheres = 0;
   for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed && !sc.bodies[i].moved;
-  for (int i : s.rigid_bodies) spheres += sc.bodies[i].model == "sphere";
+  for (int i : s.rigid_bodies) spheres += sc.bodies[i].model == "sphere" || sc.bodies[i].shape.kind == ShapeKind::Spheres; // and clumps
   // every material as a granular material (index = its place in the scene), for the contacts of spheres
   for (const Material &m : sc.materials) {
     FDEMGranularMaterial g;
@@ -120,7 +120,12 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
     PetscInt id;
     const PetscInt gm = mat ? (PetscInt)(mat - sc.materials.data()) : -1;
     if (b.model == "sphere") PetscCall(FDEMRigidAddSphere(s.rb, b.name.c_str(), b.shape.radius, density, gm, x, v, w, &id));
-    else {
+    else if (b.shape.kind == ShapeKind::Spheres) {
+      PetscCheck(gm >= 0, s.comm, PETSC_ERR_USER_INPUT, "%s: body '%s': a clump (shape {spheres: ...}) needs a material: its spheres' contacts take the material's granular law", b.where.c_str(), b.name.c_str());
+      std::vector<PetscReal> balls;
+      for (size_t k = 0; k < b.shape.points.size(); ++k) balls.insert(balls.end(), {b.shape.points[k].x, b.shape.points[k].y, b.shape.points[k].z, b.shape.radii[k]});
+      PetscCall(FDEMRigidAddClump(s.rb, b.name.c_str(), (PetscInt)b.shape.radii.size(), balls.data(), density, gm, x, Q, v, w, &id));
+    } else {
       PetscCall(FDEMRigidAddBodyFromMesh(s.rb, b.name.c_str(), (PetscInt)m.nodes.size(), nodes.data(), (PetscInt)m.tets.size(), tets.data(), density, x, Q, v, w, &id));
       if (gm >= 0) PetscCall(FDEMRigidSetBodyMaterial(s.rb, id, gm));
     }
@@ -536,7 +541,7 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     };
     PetscCall(part(18, "rigid_xRvH", &p.r, &p.nr, &p.sr));
     bool spheres = false;
-    for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].model == "sphere";
+    for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].model == "sphere" || s.scene->bodies[i].shape.kind == ShapeKind::Spheres;
     if (spheres) PetscCall(part(kSprings, "rigid_springs", &p.h, &p.nh, &p.sh));
     PetscCall(part(4, "rigid_image_work", &p.g, &p.ng, &p.sg));
   }

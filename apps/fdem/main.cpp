@@ -80,7 +80,7 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   }
   else {
     std::string done; // every "rigid body N" (the contact engine names each side by its kind)
-    while (std::regex_search(msg, m, std::regex("(rigid body|sphere) (\\d+)"))) {
+    while (std::regex_search(msg, m, std::regex("(rigid body|sphere|clump) (\\d+)"))) {
       done += m.prefix().str() + m[1].str() + " " + by_id(m[2]);
       msg = m.suffix().str();
     }

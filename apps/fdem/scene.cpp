@@ -139,7 +139,7 @@ const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "fr
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
 const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
-const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "mesh"};
+const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "spheres", "mesh"};
 const std::vector<std::string> kBodyModel = {"rigid", "deformable", "sphere", "auto"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
 
@@ -223,6 +223,15 @@ Shape ReadShape(const Reader &r, const std::string &w, const YAML::Node &n, cons
     s.kind = ShapeKind::ConvexHull;
     if (!v.IsSequence() || v.size() < 4) r.Fail(v, wk + ": expected a list of at least 4 points [x, y, z]" + Reader::Got(v));
     for (size_t i = 0; i < v.size(); ++i) s.points.push_back(r.Vector(v[i], wk + "[" + std::to_string(i) + "]"));
+  } else if (kind == "spheres") {
+    s.kind = ShapeKind::Spheres;
+    if (!v.IsSequence() || v.size() < 1) r.Fail(v, wk + ": expected a list of spheres [x, y, z, radius] (a clump, in its own frame)" + Reader::Got(v));
+    for (size_t i = 0; i < v.size(); ++i) {
+      const std::string wi = wk + "[" + std::to_string(i) + "]";
+      if (!v[i].IsSequence() || v[i].size() != 4) r.Fail(v[i], wi + ": expected [x, y, z, radius]" + Reader::Got(v[i]));
+      s.points.push_back(Vec3(r.Real(v[i][0], wi + "[0]"), r.Real(v[i][1], wi + "[1]"), r.Real(v[i][2], wi + "[2]")));
+      s.radii.push_back(r.Positive(v[i][3], wi + " (radius)"));
+    }
   } else if (kind == "pebble") {
     s.kind = ShapeKind::Pebble;
     r.Keys(v, wk, {"size", "seed"});
@@ -300,6 +309,7 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
   b.model = r.Choice(r.Required(n, "model", w), w + ".model", kBodyModel);
   b.shape = ReadShape(r, w + ".shape", r.Required(n, "shape", w), dir);
   if (b.model == "sphere" && b.shape.kind != ShapeKind::Sphere) r.Fail(n["shape"], w + ".shape: a body of model sphere has shape {sphere: radius}");
+  if (b.shape.kind == ShapeKind::Spheres && b.model != "rigid" && b.model != "auto") r.Fail(n["model"], w + ".model: a clump (shape {spheres: ...}) is a rigid body: give model: rigid");
   if (n["fixed"]) {
     b.fixed = r.Bool(n["fixed"], w + ".fixed");
     if (b.model == "deformable") r.Fail(n["fixed"], w + ".fixed: only rigid bodies are fixed as a whole; fix the nodes of a deformable body with fix: {below: [axis, value]}, {above: ...} or {group: name}");
@@ -552,6 +562,7 @@ const char *SceneKeysHelp() {
          "                      centre, width (gaussian; fractions of from..to)} (deformable, added to velocity)}\n"
          "    shape: {box: [lx, ly, lz]} | {sphere: r} | {ellipsoid: [a, b, c]} | {cylinder: {radius, height}}\n"
          "         | {convex_hull: [[x,y,z], ...]} | {pebble: {size, seed}} | {mesh: FILE.msh} | {mesh: {file, group}}\n"
+         "         | {spheres: [[x,y,z,r], ...]} (a clump: a rigid body whose contact shape is spheres, granular laws)\n"
          "  generate: list of {pack: {count, like: BODY, region: {lo: [..], hi: [..]}, scale: [min, max], seed}}\n"
          "  output: {dir: out, every: s, balance: s}        HDF5 frames every `every` (rigid.h5, mesh.h5, scene.xmf), balance.csv rows every `balance`\n"
          "  checkpoint: {every: s, keep: 2}                 DIR/checkpoint.h5 (+ .1, .2, ...); continue with -restart DIR/checkpoint.h5\n"

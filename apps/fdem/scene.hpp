@@ -39,14 +39,15 @@ struct Material {
   Where       where;
 };
 
-enum class ShapeKind { Box, Sphere, Ellipsoid, Cylinder, ConvexHull, Pebble, Mesh };
+enum class ShapeKind { Box, Sphere, Ellipsoid, Cylinder, ConvexHull, Pebble, Mesh, Spheres };
 
 struct Shape {
   ShapeKind         kind = ShapeKind::Box;
   Vec3              size;             // box: full lengths; ellipsoid: semi-axes
   double            radius = 0, height = 0; // sphere, cylinder; pebble: radius = mean long semi-axis
   long              seed = 1;         // pebble
-  std::vector<Vec3> points;           // convex_hull
+  std::vector<Vec3> points;           // convex_hull; spheres: the centres
+  std::vector<double> radii;         // spheres (a clump)
   std::string       file, group;      // mesh (file resolved against the scene's folder)
   Where             where;
 };

@@ -70,6 +70,16 @@ kernels::TetMesh ShapeMesh(const Body &b) {
     case ShapeKind::ConvexHull:
       kernels::MakeConvexPolyhedronTets(s.points, X, T);
       return FromTets(X, T);
+    case ShapeKind::Spheres: // a clump: each sphere's octahedron (its bounding box, for the scene's extent and the packing)
+      for (size_t k = 0; k < s.points.size(); ++k) {
+        const int  base = (int)X.size();
+        const Vec3 c = s.points[k];
+        const double r = s.radii[k];
+        for (const Vec3 &e : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)}) X.push_back(c + r * e);
+        X.push_back(c);
+        for (const auto &f : {std::array<int, 3>{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}) T.push_back({base + 6, base + f[0], base + f[1], base + f[2]});
+      }
+      return FromTets(X, T);
     case ShapeKind::Pebble:
       {
       kernels::PebbleRandom random((unsigned long)s.seed);
@@ -109,6 +119,23 @@ kernels::TetMesh ShapeMesh(const Body &b) {
   return {};
 }
 
+double ShapeRadius(const Body &b) {
+  if (b.model == "sphere") return b.shape.radius;
+  if (b.shape.kind == ShapeKind::Spheres) {
+    Vec3   p;
+    double w = 0, r = 0;
+    for (size_t k = 0; k < b.shape.points.size(); ++k) {
+      const double v = b.shape.radii[k] * b.shape.radii[k] * b.shape.radii[k];
+      p += v * b.shape.points[k];
+      w += v;
+    }
+    p = (1 / w) * p;
+    for (size_t k = 0; k < b.shape.points.size(); ++k) r = std::max(r, norm(b.shape.points[k] - p) + b.shape.radii[k]);
+    return r;
+  }
+  return BoundingRadius(ShapeMesh(b));
+}
+
 double BoundingRadius(const kernels::TetMesh &m) {
   double r = 0;
   for (const auto &p : m.nodes) r = std::max(r, norm(p));
@@ -116,12 +143,12 @@ double BoundingRadius(const kernels::TetMesh &m) {
 }
 
 void ExpandPacks(Scene &sc) {
+  std::vector<std::pair<Vec3, double>> placed; // the bounding spheres of every pack's bodies so far
   for (const Pack &p : sc.packs) {
     const Body                             like = *sc.FindBody(p.like);
     std::mt19937_64                        rng((unsigned long)p.seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     std::normal_distribution<double>       N(0.0, 1.0);
-    std::vector<std::pair<Vec3, double>>   placed;
     for (long i = 0; i < p.count; ++i) {
       Body b = like;
       b.name = like.name + "_" + std::to_string(i);
@@ -133,10 +160,11 @@ void ExpandPacks(Scene &sc) {
         b.shape.height *= s;
         b.shape.size = s * b.shape.size;
         for (auto &q : b.shape.points) q = s * q;
+        for (double &q : b.shape.radii) q *= s;
         if (b.resolution > 0) b.resolution *= s;
         if (b.shape.kind == ShapeKind::Mesh) throw SceneError(p.where + ": pack: scale other than [1, 1] is not available for mesh shapes ('" + like.name + "')");
       }
-      const double r = b.model == "sphere" ? b.shape.radius : BoundingRadius(ShapeMesh(b));
+      const double r = ShapeRadius(b);
       Vec3         axis(N(rng), N(rng), N(rng));
       b.rotation = kernels::RotationMatrix(axis * (M_PI * U(rng) / std::max(norm(axis), 1e-12)));
       bool ok    = false;

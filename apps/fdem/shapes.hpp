@@ -16,9 +16,15 @@ kernels::TetMesh ShapeMesh(const Body &b);
 
 // Appends the bodies of every pack: `count` copies of the body `like`, scaled
 // by a factor uniform in [scale], turned by a random rotation, their centres
-// drawn in the region so that no two bounding spheres of packed bodies meet.
+// drawn in the region so that no two bounding spheres of packed bodies meet (of one
+// pack or of two).
 // A pebble shape gets a new seed per copy. Copies are named LIKE_<i>.
 void ExpandPacks(Scene &sc);
+
+// The radius of a body's bounding sphere about its centre: a sphere's radius; a clump's
+// largest |c - p| + r over its spheres, p their centres weighted by r^3 (its centre of mass
+// when they do not overlap); otherwise BoundingRadius of its mesh.
+double ShapeRadius(const Body &b);
 
 // Bounding radius of the mesh about the origin.
 double BoundingRadius(const kernels::TetMesh &m);

@@ -82,6 +82,14 @@ PETSC_EXTERN PetscErrorCode FDEMRigidAddGranularMaterial(FDEMRigid rb, const cha
 /* A sphere of the given radius and density (solid: I = 2/5 m r^2) and granular material; call
    on every rank with the same arguments, as FDEMRigidAddBody. omega: space-frame. */
 PETSC_EXTERN PetscErrorCode FDEMRigidAddSphere(FDEMRigid rb, const char *name, PetscReal radius, PetscReal density, PetscInt material, const PetscReal x[3], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
+/* A clump: a rigid body whose contact shape is n spheres, balls[4k .. 4k+3] = the centre (x, y,
+   z) and radius of sphere k in the clump's own frame (they may overlap). Mass, centre of mass and
+   principal axes are those of the union of the spheres at the given density (computed once per
+   shape; doc/spheres.md, "Clumps"). Placed as FDEMRigidAddBodyFromMesh: its own frame turned by
+   Q (row-major; NULL = identity), its centre of mass at x. Its spheres meet spheres, other
+   clumps and surfaces with the granular material's law; two spheres of one clump never meet.
+   Call on every rank with the same arguments. */
+PETSC_EXTERN PetscErrorCode FDEMRigidAddClump(FDEMRigid rb, const char *name, PetscInt n, const PetscReal balls[], PetscReal density, PetscInt material, const PetscReal x[3], const PetscReal Q[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id);
 /* The granular material of body id (a polyhedron that spheres touch). Every rank. */
 PETSC_EXTERN PetscErrorCode FDEMRigidSetBodyMaterial(FDEMRigid rb, PetscInt id, PetscInt material);
 

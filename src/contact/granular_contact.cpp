@@ -101,6 +101,12 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     hslots_.assign(nl_, nullptr); // each holder's slots, looked up once
     std::uint16_t *const seen = seen_.data();
     HistorySlot **const  hp   = hslots_.data();
+    // the spheres of one clump (consecutive own primitives of one body) share their body's
+    // slots: a slot's use is marked on the first of them
+    auto first_of = [&](int i) {
+      while (i > 0 && P(i - 1).shape == kSphere && P(i - 1).kind == P(i).kind && P(i - 1).body == P(i).body) --i;
+      return i;
+    };
     auto                       slots = [&](int i) { // own sphere i's slots
       if (!hp[i]) hp[i] = adapters_[P(i).kind]->History(i - first_[P(i).kind]);
       return hp[i];
@@ -111,13 +117,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       if (h) {
         for (int k = 0; k < kHistorySlots; ++k)
           if (h[k].key == key) {
-            seen[i] |= (std::uint16_t)(1u << k);
+            seen[first_of(i)] |= (std::uint16_t)(1u << k);
             return h[k].s;
           }
         for (int k = 0; k < kHistorySlots; ++k)
           if (!h[k].key) {
             h[k] = HistorySlot{key, {0, 0, 0}};
-            seen[i] |= (std::uint16_t)(1u << k);
+            seen[first_of(i)] |= (std::uint16_t)(1u << k);
             return h[k].s;
           }
         ++overflow;
@@ -166,7 +172,9 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         int              law = ma >= 0 && ma < gnmat_ && mb < gnmat_ ? ma * gnmat_ + mb : -1;
         if (law >= 0 && !(gtable_[law].kn > 0) && !(gtable_[law].estar > 0)) law = -1; // Law() says why, if they touch
         SpherePairConst &c = spc_[j];
-        c.key              = SlotKey(gtag_, Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key));
+        std::uint64_t    kh = Mix(Mix(1, (std::uint64_t)B.kind), (std::uint64_t)B.key);
+        if (A.elem) kh = Mix(kh, (std::uint64_t)A.elem); // the holder's sphere within its clump (its body's slots are shared)
+        c.key = SlotKey(gtag_, kh);
         c.mstar            = EffectiveMass(A.mass, B.mass);
         c.cn               = 0;
         if (law >= 0) {
@@ -231,7 +239,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     if (!holders_valid_ || !holders_.empty()) // the slots in use, for the sweep of unseen slots below
       for (int j : sweep_.touching) {
         const SpherePair &q = sp_[j];
-        if (q.slot >= 0) seen[sph_[q.a]] |= (std::uint16_t)(1u << q.slot);
+        if (q.slot >= 0) seen[first_of(sph_[q.a])] |= (std::uint16_t)(1u << q.slot);
       }
     if (!checked_initial_)
       for (int j : sweep_.touching) { // deep: an overlap of half the smaller radius
@@ -325,6 +333,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         std::sort(f, f + nf);
         std::uint64_t h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
         for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
+        if (S.elem) h = Mix(h, (std::uint64_t)S.elem); // the sphere within its clump
         const std::int64_t   key = SlotKey(gtag_, h);
         double              *sp  = spring(si, key);
         Vec3                 s   = take(sp);
@@ -345,7 +354,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     // a search or a listing: every own sphere is swept then) or a sphere-surface contact (the
     // spheres of st_ are swept at every evaluation)
     auto sweep = [&](int i) {
-      if (prim_[i].shape != kSphere) return;
+      if (prim_[i].shape != kSphere || first_of(i) != i) return;
       HistorySlot *h = slots(i);
       if (!h) return;
       for (int k = 0; k < kHistorySlots; ++k)
@@ -355,7 +364,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       for (int i = 0; i < nl_; ++i) sweep(i);
       holders_.clear();
       for (const auto &p : st_)
-        if (p[0] < nl_ && (holders_.empty() || holders_.back() != p[0])) holders_.push_back(p[0]); // st_ is grouped by sphere
+        if (p[0] < nl_ && (holders_.empty() || holders_.back() != first_of(p[0]))) holders_.push_back(first_of(p[0])); // st_ is grouped by sphere
     } else
       for (int i : holders_) sweep(i);
     holders_valid_ = true;

@@ -66,10 +66,11 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   fdem::model::RigidFields f;
   std::int64_t             tmax = 1;
   PetscFunctionBegin;
-  for (const auto &sk : rb_->skins) tmax = std::max<std::int64_t>(tmax, (std::int64_t)sk.tets.size());
+  for (const auto &sk : rb_->skins) tmax = std::max<std::int64_t>(tmax, (std::int64_t)sk.Primitives());
   while (surface_.size() < rb_->skins.size()) surface_.push_back(SurfaceFaces(rb_->skins[surface_.size()]));
   body_.clear();
   sphere_.clear();
+  clump_.clear();
   skin_.clear();
   radius_.clear();
   inv_inertia_.clear();
@@ -94,6 +95,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       prim_tet_.push_back(-1);
       body_.push_back(b);
       sphere_.push_back(1);
+      clump_.push_back(0);
       skin_.push_back(-1);
       radius_.push_back(f.radius[b]);
       inv_inertia_.push_back(1.0 / rb_->inertia[3 * b]);
@@ -101,6 +103,21 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
     }
     if (f.skin[b] < 0) continue;
     const auto &sk = rb_->skins[f.skin[b]];
+    for (size_t k = 0; k < sk.balls.size(); ++k) { // a clump: a sphere primitive per ball
+      Primitive p;
+      p.shape  = kSphere;
+      p.fixed  = rb_->fixed[b] ? 1 : 0;
+      p.body   = id;
+      p.elem   = (PetscInt)k;
+      p.key    = (std::int64_t)id * tmax + (std::int64_t)k;
+      p.mat    = (std::int32_t)mat;
+      p.radius = sk.balls[k][3];
+      p.mass   = p.fixed ? 0 : f.mass[b];
+      p.flags  = 1; // a clump's sphere (BodyName)
+      prims.push_back(p);
+      prim_body_.push_back((int)body_.size());
+      prim_tet_.push_back((int)k);
+    }
     for (size_t t = 0; t < sk.tets.size(); ++t) {
       Primitive p;
       p.fixed   = rb_->fixed[b] ? 1 : 0;
@@ -118,6 +135,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
     }
     body_.push_back(b);
     sphere_.push_back(0);
+    clump_.push_back(sk.balls.empty() ? 0 : 1);
     skin_.push_back(f.skin[b]);
     radius_.push_back(f.radius[b]);
     inv_inertia_.push_back(0); // not used
@@ -152,11 +170,22 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
       xc               = ToVec3(L.x(q_, b));
       R                = ToMat3(L.R(q_, b));
       world_.resize(sk.nodes.size());
-      for (size_t k = 0; k < sk.nodes.size(); ++k) world_[k] = xc + R * sk.nodes[k];
+      if (!clump_[j])
+        for (size_t k = 0; k < sk.nodes.size(); ++k) world_[k] = xc + R * sk.nodes[k];
       if (v) {
         vc = ToVec3(L.v(u_, b));
         w  = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
       }
+    }
+    if (clump_[j]) { // a sphere of a clump: centre; velocity and angular velocity
+      const auto &ball = sk.balls[prim_tet_[i]];
+      const Vec3  r    = R * Vec3(ball[0], ball[1], ball[2]);
+      x[i][0]          = xc + r;
+      if (v) {
+        v[i][0] = vc + cross(w, r);
+        v[i][1] = w;
+      }
+      continue;
     }
     const auto &T = sk.tets[prim_tet_[i]];
     for (int k = 0; k < 4; ++k) {
@@ -174,6 +203,14 @@ PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to
   for (int m = 0; m < n; ++m) {
     const int      j = prim_body_[which[m]];
     const PetscInt b = body_[j];
+    if (clump_[j]) { // a sphere of a clump, at x + R p, moving at v + omega x R p
+      const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
+      const Mat3  R    = ToMat3(L.R(q_, b));
+      const Vec3  r    = R * Vec3(ball[0], ball[1], ball[2]);
+      const Vec3  w    = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
+      s[to[m]]         = fdem::kernels::SphereState{ToVec3(L.x(q_, b)) + r, ToVec3(L.v(u_, b)) + cross(w, r), w, ball[3]};
+      continue;
+    }
     // I = I 1: omega = H / I
     s[to[m]] = fdem::kernels::SphereState{ToVec3(L.x(q_, b)), ToVec3(L.v(u_, b)), inv_inertia_[j] * ToVec3(L.H(u_, b)), radius_[j]};
   }
@@ -184,11 +221,17 @@ PetscErrorCode RigidAdapter::AddSphereForces(int n, const int *which, const int 
   const RigidLayout L(rb_->n);
   PetscFunctionBegin;
   for (int m = 0; m < n; ++m) {
-    const PetscInt             b = body_[prim_body_[which[m]]];
+    const int                       j = prim_body_[which[m]];
+    const PetscInt                  b = body_[j];
     const fdem::kernels::SphereSum &g = f[from[m]];
+    Vec3                            M = g.t;
+    if (clump_[j]) { // the force acts at the sphere's centre, x + R p
+      const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
+      M += cross(ToMat3(L.R(q_, b)) * Vec3(ball[0], ball[1], ball[2]), g.f);
+    }
     for (int d = 0; d < 3; ++d) {
       L.F(fm_, b)[d] += g.f[d];
-      L.M(fm_, b)[d] += g.t[d];
+      L.M(fm_, b)[d] += M[d];
     }
   }
   PetscFunctionReturn(0);
@@ -209,6 +252,11 @@ PetscErrorCode RigidAdapter::Scatter(const std::vector<int> &which, const Vertic
     const Vec3 xc = sphere_[j] ? Vec3() : ToVec3(L.x(q_, b));
     for (; m < which.size() && prim_body_[which[m]] == j; ++m) {
       const int i = which[m];
+      if (clump_[j]) { // a sphere of a clump: the force on its centre and a torque
+        F += f[i][0];
+        M += f[i][1] + cross(x[i][0] - xc, f[i][0]);
+        continue;
+      }
       for (int k = 0; k < 4; ++k) {
         F += f[i][k];
         M += cross(x[i][k] - xc, f[i][k]);
@@ -291,7 +339,7 @@ PetscErrorCode RigidAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscCall(DMSwarmGetLocalSize(rb_->sw, &n));
   PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
   for (PetscInt b = 0; b < n; ++b) {
-    if (f.fixed[b] || f.skin[b] < 0) continue;
+    if (f.fixed[b] || f.skin[b] < 0 || rb_->skins[f.skin[b]].tets.empty()) continue; // spheres and clumps: the granular laws' own check
     const PetscReal r = f.radius[b];
     const PetscReal L = PetscPowReal(std::max<PetscReal>(1e-300, 6 * r * r * r / (PetscReal)rb_->skins[f.skin[b]].tets.size()), 1.0 / 3);
     *w2               = std::max(*w2, penalty * 4 * r * r / (L * f.mass[b]));
@@ -300,8 +348,12 @@ PetscErrorCode RigidAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscFunctionReturn(0);
 }
 
-std::string RigidAdapter::BodyName(const Primitive &p) const { return (p.shape == kSphere ? "sphere " : "rigid body ") + std::to_string((long long)p.body); }
-std::string RigidAdapter::ElementName(const Primitive &p) const { return p.shape == kSphere ? std::string("ball") : "skin tetrahedron " + std::to_string((long long)p.elem); }
+// A clump's spheres carry flag 1 (List), ghosts included.
+std::string RigidAdapter::BodyName(const Primitive &p) const { return (p.shape != kSphere ? "rigid body " : p.flags & 1 ? "clump " : "sphere ") + std::to_string((long long)p.body); }
+std::string RigidAdapter::ElementName(const Primitive &p) const {
+  if (p.shape == kSphere) return p.flags & 1 ? "ball " + std::to_string((long long)p.elem) : std::string("ball");
+  return "skin tetrahedron " + std::to_string((long long)p.elem);
+}
 
 // A tenth of each local body's bounding radius.
 PetscErrorCode RigidAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {

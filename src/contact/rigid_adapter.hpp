@@ -53,9 +53,10 @@ private:
   std::vector<PetscReal> margin_;       // per listed body: its search margin (Margins)
   PetscReal              Move(size_t j) const;
   std::vector<int>       prim_body_;    // per primitive: its listed body
-  std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron
+  std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron (a clump's: its sphere)
   std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
   std::vector<char>      sphere_;       // per listed body: a sphere
+  std::vector<char>      clump_;        // per listed body: a clump (its primitives are spheres, prim_tet_ their index)
   std::vector<std::vector<std::int32_t>> surface_; // per skin: each tetrahedron's surface faces (Primitive::surface)
   char                  *hist_ = nullptr; // the swarm's "history" field between HistoryBegin and HistoryEnd
 };

@@ -473,6 +473,57 @@ PetscErrorCode FDEMRigidAddBodyFromMesh(FDEMRigid rb, const char *name, PetscInt
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FDEMRigidAddClump(FDEMRigid rb, const char *name, PetscInt n, const PetscReal balls[], PetscReal density, PetscInt material, const PetscReal x[3], const PetscReal Q[9], const PetscReal v[3], const PetscReal omega[3], PetscInt *id) {
+  char           nm[256];
+  const PetscReal zero[3] = {0, 0, 0};
+  PetscInt        myid;
+  PetscFunctionBegin;
+  PetscCall(PetscSNPrintf(nm, sizeof(nm), "Clump %s (id %" PetscInt_FMT ")", name ? name : "(unnamed)", rb->next_id));
+  PetscCheck(n > 0 && balls, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: give at least one sphere", nm);
+  PetscCheck(material >= 0 && material < (PetscInt)rb->gmats.size(), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: no granular material %" PetscInt_FMT " (%zu added)", nm, material, rb->gmats.size());
+  for (int k = 0; k < 3; ++k) PetscCheck(std::isfinite(x[k]), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: the position is not finite", nm);
+  PetscCall(fdem::Guard(rb->comm, [&]() -> PetscErrorCode {
+    // clumps of one shape at any size and density share one integration: that of the shape
+    // scaled by its first radius at unit density (mass ~ rho s^3, inertia ~ rho s^5)
+    const double        sc = balls[3];
+    PetscCheck(std::isfinite(sc) && sc > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: sphere 0: radius %g must be positive", nm, (double)sc);
+    PetscCheck(std::isfinite(density) && density > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: density %g must be positive", nm, (double)density);
+    std::vector<double> key(balls, balls + 4 * n);
+    for (double &k : key) k /= sc;
+    auto it = rb->clump_props.find(key);
+    if (it == rb->clump_props.end()) {
+      std::vector<fdem::kernels::Ball> B((size_t)n);
+      for (PetscInt k = 0; k < n; ++k) B[k] = {Vec3(key[4 * k], key[4 * k + 1], key[4 * k + 2]), key[4 * k + 3]};
+      it = rb->clump_props.emplace(key, fdem::kernels::BallUnionMassProperties(B, 1.0, nm)).first;
+    }
+    fdem::kernels::MassProperties mp = it->second;
+    mp.mass *= density * sc * sc * sc;
+    mp.volume *= sc * sc * sc;
+    mp.com = sc * mp.com;
+    mp.principal_moments = (density * sc * sc * sc * sc * sc) * mp.principal_moments;
+    // body frame = principal axes about the centre of mass; each sphere drawn as an octahedron
+    Skin   s;
+    double rmax = 0;
+    s.name      = nm;
+    for (PetscInt k = 0; k < n; ++k) {
+      const Vec3   p = transpose(mp.principal_axes) * (Vec3(balls[4 * k], balls[4 * k + 1], balls[4 * k + 2]) - mp.com);
+      const double r = balls[4 * k + 3];
+      s.balls.push_back({p.x, p.y, p.z, r});
+      rmax             = std::max(rmax, fdem::kernels::norm(p) + r);
+      const int base   = (int)s.nodes.size();
+      const Vec3 oct[6] = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+      for (const Vec3 &e : oct) s.nodes.push_back(p + r * e);
+      for (const auto &f : {std::array<int, 3>{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}) s.faces.push_back({base + f[0], base + f[1], base + f[2]});
+    }
+    rb->skins.push_back(std::move(s));
+    const Mat3 R = (Q ? FromRowMajor(Q) : Mat3::identity()) * mp.principal_axes;
+    return AddLocal(rb, (PetscInt)rb->skins.size() - 1, mp.mass, mp.principal_moments, x, R, v ? v : zero, omega ? omega : zero, rmax, &myid);
+  }));
+  PetscCall(FDEMRigidSetBodyMaterial(rb, myid, material));
+  if (id) *id = myid;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMRigidGetBodyForce(FDEMRigid rb, PetscInt id, PetscReal F[3]) {
   PetscReal mine[3] = {0, 0, 0};
   PetscFunctionBegin;
@@ -685,7 +736,7 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
     if (rb->cpu_mark >= 0) {
       PetscReal loc[4] = {(PetscReal)rb->cpu_terms, (PetscReal)(now - rb->cpu_mark - rb->cpu_terms), 0, 0}, sum[4];
       for (PetscInt b = 0; b < n; ++b)
-        if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0, loc[3] += work[b] + mesh[b];
+        if (!fx[b]) loc[2] += sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].Primitives() : 1.0, loc[3] += work[b] + mesh[b];
       PetscCallMPI(MPI_Allreduce(loc, sum, 4, MPIU_REAL, MPI_SUM, rb->comm));
       PartitionCosts(sum[1], sum[0], sum[2], sum[3], &rb->cost_primitive, &rb->cost_pair);
       if (rb->cost_primitive > 0) a = rb->cost_primitive, bw = rb->weight_pairs ? rb->cost_pair : 0;
@@ -697,7 +748,7 @@ static PetscErrorCode BalanceRcb(FDEMRigid rb) {
   for (PetscInt b = 0; b < n; ++b)
     if (!fx[b]) {
       mine.insert(mine.end(), x + 3 * b, x + 3 * b + 3);
-      mine.push_back(a * (sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].tets.size() : 1.0) + bw * (work[b] + mesh[b]));
+      mine.push_back(a * (sk[b] >= 0 ? (PetscReal)rb->skins[sk[b]].Primitives() : 1.0) + bw * (work[b] + mesh[b]));
     }
   PetscCall(DMSwarmRestoreField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   PetscCall(DMSwarmRestoreField(rb->sw, "skin", nullptr, nullptr, (void **)&sk));

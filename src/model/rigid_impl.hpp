@@ -3,9 +3,11 @@
 #include "work_meter.hpp"
 #include <fdem/rigid.h>
 #include <fdem/kernels/granular.hpp>
+#include <fdem/kernels/massprops.hpp>
 #include <fdem/kernels/vec3.hpp>
 
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,11 @@ struct Skin {
   std::vector<Vec3>               nodes; // principal (body) frame, centred at the centre of mass
   std::vector<std::array<int, 3>> faces; // boundary triangles
   std::vector<std::array<int, 4>> tets;
+  // a clump (FDEMRigidAddClump): its spheres, centre and radius in the body frame; nodes and
+  // faces then draw each sphere as an octahedron for output, and there are no tetrahedra
+  std::vector<std::array<double, 4>> balls;
+  // the contact primitives the skin lends: its tetrahedra, or its spheres
+  size_t Primitives() const { return tets.size() + balls.size(); }
 };
 // The named layout of n rigid bodies' state and of the arrays of the split RHS:
 //   state     U = [x (3n) | R (9n) | v (3n) | H (3n)]   centre, orientation (row-major,
@@ -99,6 +106,7 @@ struct _n_FDEMRigid {
   std::vector<fdem::kernels::GranularPair>     gtable; // every pair mixed (the contact engine's), made for gtable_n materials
   size_t                                       gtable_n = 0;
   PetscInt                                     nspheres = 0; // sphere bodies added (every rank)
+  std::map<std::vector<double>, fdem::kernels::MassProperties> clump_props; // a clump's shape (its spheres over its first radius) at unit size and density (FDEMRigidAddClump)
   // while a TS runs
   PetscInt               n = 0; // local bodies
   std::vector<PetscReal> mass, inertia;

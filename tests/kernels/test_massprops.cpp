@@ -311,3 +311,64 @@ TEST(MassProps, BadInputsNameTheBodyAndElement) {
   MakeBoxTets({0, 0, 0}, {1, 1e-5, 1e-5}, 1, 1, 1, nodes, tets);
   EXPECT_NO_THROW(ComputeMassProperties(nodes, tets, 1.0, "rod"));
 }
+
+// A union of balls (a clump of spheres): one ball and balls apart are exact to round-off; two
+// overlapping balls against the closed forms of their union (a solid of revolution).
+TEST(MassProps, BallUnionExactForOneBallAndBallsApart) {
+  const double rho = 2600, r = 0.04, m = rho * 4.0 / 3.0 * kPi * r * r * r, I0 = 0.4 * m * r * r;
+  const auto   one = BallUnionMassProperties({{Vec3(0.3, -0.2, 1.1), r}}, rho, "pebble");
+  EXPECT_NEAR(one.mass, m, 1e-13 * m);
+  EXPECT_LT(MaxAbs(one.com - Vec3(0.3, -0.2, 1.1)), 1e-14);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(one.principal_moments[k], I0, 1e-12 * I0);
+  // two balls 3 r apart along a skew axis: m and I of each, the parallel axis theorem across
+  const Vec3 a(0.1, 0.2, 0.3), e = Vec3(1, 2, 2) / 3.0, b = a + 3 * r * e;
+  const auto two = BallUnionMassProperties({{a, r}, {b, r}}, rho, "dumbbell");
+  EXPECT_NEAR(two.mass, 2 * m, 1e-13 * m);
+  EXPECT_LT(MaxAbs(two.com - 0.5 * (a + b)), 1e-14);
+  const double Iaxis = 2 * I0, Iperp = 2 * (I0 + m * (1.5 * r) * (1.5 * r));
+  EXPECT_NEAR(two.principal_moments[0], Iaxis, 1e-12 * Iperp);
+  EXPECT_NEAR(two.principal_moments[1], Iperp, 1e-12 * Iperp);
+  EXPECT_NEAR(two.principal_moments[2], Iperp, 1e-12 * Iperp);
+  EXPECT_NEAR(std::fabs(dot(two.principal_axes.col(0), e)), 1.0, 1e-12);
+}
+
+TEST(MassProps, BallUnionOfOverlappingBallsMatchesClosedForms) {
+  // balls of radius r at 0 and d on the x axis: the union's section at x is the disc of the nearer
+  // centre, so V = 2 pi int_{-r}^{d/2} (r^2 - x^2) dx and I_xx = rho pi int_{-r}^{d/2} (r^2 - x^2)^2 dx
+  const double rho = 1000, r = 1.0;
+  for (double d : {0.3, 1.0, 1.7}) {
+    const double h = 0.5 * d;
+    auto         P = [&](double x) { return r * r * x - x * x * x / 3; };                                     // int (r^2 - x^2)
+    auto         Q = [&](double x) { return r * r * r * r * x - 2 * r * r * x * x * x / 3 + x * x * x * x * x / 5; }; // int (r^2 - x^2)^2
+    const double V = 2 * kPi * (P(h) - P(-r)), Ixx = rho * kPi * (Q(h) - Q(-r));
+    // I_yy about the centre of mass: int (x - h)^2 + z^2 over the union, by sections
+    auto R = [&](double t) { // an antiderivative of (r^2 - t^2)(t - h)^2
+      return r * r * t * t * t / 3 - h * r * r * t * t + r * r * h * h * t - t * t * t * t * t / 5 + h * t * t * t * t / 2 - h * h * t * t * t / 3;
+    };
+    const double Iyy = 2 * rho * kPi * (R(h) - R(-r)) + 0.5 * Ixx; // sum of (x - h)^2 dm, plus int z^2 dm = I_xx / 2
+    const auto   mp  = BallUnionMassProperties({{Vec3(0, 0, 0), r}, {Vec3(d, 0, 0), r}}, rho, "lens");
+    // the grid's error at the edges of the shadow hidden inside the other ball: about 5e-5
+    EXPECT_NEAR(mp.volume, V, 1e-4 * V) << "d = " << d;
+    EXPECT_NEAR(mp.com.x, h, 1e-4 * r) << "d = " << d;
+    EXPECT_NEAR(mp.principal_moments[0], Ixx, 1e-4 * Ixx) << "d = " << d;
+    EXPECT_NEAR(mp.principal_moments[1], Iyy, 1e-4 * Iyy) << "d = " << d;
+    EXPECT_NEAR(mp.principal_moments[2], Iyy, 1e-4 * Iyy) << "d = " << d;
+    std::printf("d = %.1f r: volume %.3e, I_xx %.3e, I_yy %.3e relative error\n", d, mp.volume / V - 1, mp.principal_moments[0] / Ixx - 1, mp.principal_moments[1] / Iyy - 1);
+  }
+}
+
+TEST(MassProps, BallUnionBadInputNamesTheSphere) {
+  auto expect = [](const std::vector<Ball> &balls, double rho, const std::string &piece) {
+    try {
+      BallUnionMassProperties(balls, rho, "clump 'c'");
+      ADD_FAILURE() << "no error for " << piece;
+    } catch (const InputError &e) {
+      EXPECT_NE(std::string(e.what()).find("clump 'c'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << e.what();
+    }
+  };
+  expect({}, 1000, "no spheres");
+  expect({{Vec3(0, 0, 0), 1}, {Vec3(1, 0, 0), -1}}, 1000, "sphere 1: radius");
+  expect({{Vec3(0, 0, 0), 1}, {Vec3(NAN, 0, 0), 1}}, 1000, "sphere 1: its centre");
+  expect({{Vec3(0, 0, 0), 1}}, 0, "density");
+}

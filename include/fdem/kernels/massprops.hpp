@@ -37,6 +37,21 @@ struct MassProperties {
 MassProperties ComputeMassProperties(const std::vector<Vec3> &nodes, const std::vector<std::array<int, 4>> &tets,
                                      double density, const std::string &body_name);
 
+// A ball: centre and radius.
+struct Ball {
+  Vec3   c;
+  double r = 0;
+};
+
+// Mass properties of a homogeneous body that is the union of balls (a clump of spheres,
+// overlapping or not). Moments of each line parallel to z through a grid of cells over the
+// union's shadow (cell size about the smallest radius / 64, at most 1024 x 1024 cells) are
+// exact in z; across the lines a midpoint rule, corrected by each ball's exact moments minus
+// its own grid estimate, so that one ball or balls that do not overlap are exact to
+// round-off. Throws InputError naming body_name (and the sphere) for no balls, a radius not
+// positive, a centre not finite, or a density not positive.
+MassProperties BallUnionMassProperties(const std::vector<Ball> &balls, double density, const std::string &body_name);
+
 // Swap the last two nodes of every tetrahedron with negative signed volume.
 // Returns the number of tetrahedra flipped. Degenerate ones are left alone.
 int OrientTetsPositive(const std::vector<Vec3> &nodes, std::vector<std::array<int, 4>> &tets);
