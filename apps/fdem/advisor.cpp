@@ -105,9 +105,11 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
   } else a.why = "its material has no young: it cannot deform here";
   // the rules, in order
   const Material *mm = m;
-  if (b.shape.kind == ShapeKind::Spheres) {
-    a.model = "rigid";
-    a.why   = "a clump of spheres is a rigid body";
+  if (b.shape.kind == ShapeKind::Spheres) { // its cost: that of its spheres; it has no mesh to deform
+    a.model   = "rigid";
+    a.why     = "a clump of spheres is a rigid body";
+    a.cost[0] = a.cost[2] = -1;
+    a.cost[1] = kSphereStep * (double)b.shape.radii.size();
   } else if (b.fix.kind != NodeSet::None || (b.moved && b.model == "deformable") || b.velocity_field.kind != VelocityField::None) {
     a.model = "deformable";
     a.why   = "it has node sets or a velocity field (only a mesh has nodes); " + a.why;

@@ -42,7 +42,8 @@ struct Primitive {
   std::int32_t push    = 15; // tetrahedron: bit o set when its face opposite vertex o must be pushed by another's
                              // potential (a rigid skin: its surface faces; the shared ones cancel, doc/contact.md)
   std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none
-  std::int32_t flags   = 0;  // the adapter's own bits (the mesh adapter: 1 when the tetrahedron is at a damaged joint)
+  std::int32_t flags   = 0;  // the adapter's own bits (the mesh adapter: 1 when the tetrahedron is at a damaged joint;
+                             // the rigid adapter: 1 for a sphere of a clump)
   double       radius  = 0;  // sphere: its radius
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
 };
@@ -59,7 +60,7 @@ struct HistorySlot {
   std::int64_t key  = 0;
   double       s[3] = {0, 0, 0};
 };
-constexpr int kHistorySlots = 12; // per sphere
+constexpr int kHistorySlots = 12; // per sphere (a clump's spheres share their body's)
 
 // Contact parameters, one set for every pair of body kinds (options -fdem_contact_*).
 struct Params {

@@ -520,6 +520,7 @@ PetscErrorCode FDEMRigidAddClump(FDEMRigid rb, const char *name, PetscInt n, con
     return AddLocal(rb, (PetscInt)rb->skins.size() - 1, mp.mass, mp.principal_moments, x, R, v ? v : zero, omega ? omega : zero, rmax, &myid);
   }));
   PetscCall(FDEMRigidSetBodyMaterial(rb, myid, material));
+  rb->nspheres++;
   if (id) *id = myid;
   PetscFunctionReturn(0);
 }

@@ -105,7 +105,7 @@ struct _n_FDEMRigid {
   std::vector<PetscInt>                        gmat;
   std::vector<fdem::kernels::GranularPair>     gtable; // every pair mixed (the contact engine's), made for gtable_n materials
   size_t                                       gtable_n = 0;
-  PetscInt                                     nspheres = 0; // sphere bodies added (every rank)
+  PetscInt                                     nspheres = 0; // sphere bodies and clumps added (every rank): bodies with granular contact
   std::map<std::vector<double>, fdem::kernels::MassProperties> clump_props; // a clump's shape (its spheres over its first radius) at unit size and density (FDEMRigidAddClump)
   // while a TS runs
   PetscInt               n = 0; // local bodies
