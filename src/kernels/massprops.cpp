@@ -494,7 +494,21 @@ MassProperties BallUnionMassProperties(const std::vector<Ball> &balls, double de
   }
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < a; ++b) uni.second.m[a][b] = uni.second.m[b][a];
-  return FromMoments(uni.vol, uni.first, uni.second, o, density, body_name);
+  MassProperties mp = FromMoments(uni.vol, uni.first, uni.second, o, density, body_name);
+  // Principal moments that differ by less than the integration resolves (1e-4 of the largest;
+  // measured errors ~5e-5) are made equal, their mean: a clump symmetric about an axis (a
+  // dumbbell) or with cubic or tetrahedral symmetry (isotropic) is then a symmetric or spherical
+  // top, whose free rotation has a closed form (rotation.hpp), and its moments are exact to the
+  // integration's accuracy either way.
+  Vec3        &I   = mp.principal_moments; // ascending
+  const double tol = 1e-4 * I[2];
+  if (I[2] - I[0] <= tol) I[0] = I[1] = I[2] = (I[0] + I[1] + I[2]) / 3;
+  else if (I[1] - I[0] <= tol) I[0] = I[1] = 0.5 * (I[0] + I[1]);
+  else if (I[2] - I[1] <= tol) I[1] = I[2] = 0.5 * (I[1] + I[2]);
+  Mat3 D;
+  for (int k = 0; k < 3; ++k) D.m[k][k] = I[k];
+  mp.inertia_com = mp.principal_axes * D * transpose(mp.principal_axes);
+  return mp;
 }
 
 } // namespace fdem::kernels

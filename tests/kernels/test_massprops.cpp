@@ -357,6 +357,25 @@ TEST(MassProps, BallUnionOfOverlappingBallsMatchesClosedForms) {
   }
 }
 
+// A clump with tetrahedral symmetry has an isotropic inertia tensor, one symmetric about an axis two
+// equal moments: the integration's differences (~5e-5) are snapped, so that the free rotation takes
+// its closed forms (a spherical or a symmetric top).
+TEST(MassProps, BallUnionSymmetricClumpsAreSymmetricTops) {
+  const double c = 0.0202, r = 0.04;
+  const auto   tet = BallUnionMassProperties({{Vec3(c, c, c), r}, {Vec3(-c, -c, c), r}, {Vec3(-c, c, -c), r}, {Vec3(c, -c, -c), r}}, 2600, "tetra");
+  EXPECT_EQ(tet.principal_moments[0], tet.principal_moments[1]);
+  EXPECT_EQ(tet.principal_moments[1], tet.principal_moments[2]);
+  EXPECT_LT(MaxAbs(tet.com), 1e-6 * r);
+  const auto bell = BallUnionMassProperties({{Vec3(-0.007, 0, 0), 0.009}, {Vec3(0.007, 0, 0), 0.007}}, 2500, "dumbbell");
+  EXPECT_EQ(bell.principal_moments[1], bell.principal_moments[2]);
+  EXPECT_LT(bell.principal_moments[0], 0.9 * bell.principal_moments[1]);
+  EXPECT_NEAR(std::fabs(bell.principal_axes.col(0).x), 1.0, 1e-12);
+  // and a body that is not symmetric keeps three moments
+  const auto chain = BallUnionMassProperties({{Vec3(-0.01, 0, 0), 0.006}, {Vec3(0, 0, 0.003), 0.007}, {Vec3(0.01, 0, 0), 0.006}}, 2500, "chain");
+  EXPECT_GT(chain.principal_moments[1] - chain.principal_moments[0], 1e-3 * chain.principal_moments[2]);
+  EXPECT_GT(chain.principal_moments[2] - chain.principal_moments[1], 1e-3 * chain.principal_moments[2]);
+}
+
 TEST(MassProps, BallUnionBadInputNamesTheSphere) {
   auto expect = [](const std::vector<Ball> &balls, double rho, const std::string &piece) {
     try {

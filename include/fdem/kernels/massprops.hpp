@@ -49,7 +49,10 @@ struct Ball {
 // exact in z; across the lines a midpoint rule, corrected by each ball's exact moments minus
 // its own grid estimate, so that one ball or balls that do not overlap are exact to
 // round-off. Throws InputError naming body_name (and the sphere) for no balls, a radius not
-// positive, a centre not finite, or a density not positive.
+// positive, a centre not finite, or a density not positive. Principal moments within 1e-4 of
+// the largest of each other (below the integration's resolution) are made equal (their mean),
+// so that a clump with an axis of symmetry, or with cubic or tetrahedral symmetry, is a
+// symmetric or spherical top.
 MassProperties BallUnionMassProperties(const std::vector<Ball> &balls, double density, const std::string &body_name);
 
 // Swap the last two nodes of every tetrahedron with negative signed volume.
