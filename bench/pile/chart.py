@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Chart of bench/pile: body-steps per second per core against pile size, fdem
-(base revision and work tree) and LAMMPS rigid/small, log-log, as an SVG
+(base revision and work tree), LAMMPS rigid/small and fdem's clumps of the same
+spheres (bench/pile/clumps.sh, clumps.csv), log-log, as an SVG
 (no plotting library needed).   chart.py OUT_DIR  -> OUT_DIR/pile.svg"""
 import csv
 import math
@@ -22,6 +23,7 @@ def read(path, cols):
 
 read(os.path.join(out, "pile.csv"), [("base", "fdem, base revision"), ("new", "fdem, work tree")])
 read(os.path.join(out, "lammps.csv"), [("lammps", "LAMMPS rigid/small, 4-sphere clumps")])
+read(os.path.join(out, "clumps.csv"), [("fdem_clumps", "fdem, 4-sphere clumps (clumps.sh)")])
 if not series:
     sys.exit(f"chart.py: no pile.csv or lammps.csv in {out}")
 pts = [p for s in series.values() for p in s]

@@ -18,7 +18,7 @@ cmake -S "$ROOT" -B "$ROOT/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$ROOT/build" -j2 --target fdem_driver >/dev/null
 FDEM=$ROOT/build/apps/fdem/fdem
 mkdir -p "$OUT"
-echo "clumps,fdem_body_steps_per_cpu_s,lammps_body_steps_per_s,ratio" > "$OUT/clumps.csv"
+echo "n,fdem_clumps,lammps_clumps,ratio" > "$OUT/clumps.csv"
 for N in $SIZES; do
   layers=$(python3 -c "print(max(2, round($N ** (1 / 3))))")
   side=$(python3 -c "import math; print(math.ceil(math.sqrt($N / $layers)) + 1)")
