@@ -432,10 +432,14 @@ MassProperties BallUnionMassProperties(const std::vector<Ball> &balls, double de
     for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], c[a] - b.r), hi[a] = std::max(hi[a], c[a] + b.r);
     rmin = std::min(rmin, b.r);
   }
-  int    n[2];
-  double h[2];
+  // at most 1024 lines a side, and about 1e8 sphere tests in all (a clump of many spheres gets a
+  // coarser grid, never fewer than 16 lines a side)
+  const double most = std::max(16.0, std::min(1024.0, std::floor(std::sqrt(1e8 / (double)balls.size()))));
+  int          n[2];
+  double       h[2];
   for (int a = 0; a < 2; ++a) {
-    n[a] = (int)std::min(1024.0, std::max(16.0, std::ceil((hi[a] - lo[a]) / (rmin / 64))));
+    if (!std::isfinite(hi[a] - lo[a])) Fail(body_name, "its spheres span a region too large to integrate");
+    n[a] = (int)std::min(most, std::max(16.0, std::ceil((hi[a] - lo[a]) / (rmin / 64))));
     h[a] = (hi[a] - lo[a]) / n[a];
   }
   struct Moments {
@@ -494,6 +498,7 @@ MassProperties BallUnionMassProperties(const std::vector<Ball> &balls, double de
   }
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < a; ++b) uni.second.m[a][b] = uni.second.m[b][a];
+  if (!std::isfinite(uni.vol) || !(uni.vol > 0)) Fail(body_name, "the volume of its spheres is not a positive finite number (radii and centres too far apart in scale)");
   MassProperties mp = FromMoments(uni.vol, uni.first, uni.second, o, density, body_name);
   // Principal moments that differ by less than the integration resolves (1e-4 of the largest;
   // measured errors ~5e-5) are made equal, their mean: a clump symmetric about an axis (a

@@ -390,4 +390,16 @@ TEST(MassProps, BallUnionBadInputNamesTheSphere) {
   expect({{Vec3(0, 0, 0), 1}, {Vec3(1, 0, 0), -1}}, 1000, "sphere 1: radius");
   expect({{Vec3(0, 0, 0), 1}, {Vec3(NAN, 0, 0), 1}}, 1000, "sphere 1: its centre");
   expect({{Vec3(0, 0, 0), 1}}, 0, "density");
+  expect({{Vec3(-1e308, 0, 0), 1}, {Vec3(1e308, 0, 0), 1}}, 1000, "too large");
+}
+
+// A clump of many spheres stays bounded in work (about 1e8 sphere tests): 20 000 spheres in a row,
+// apart, so the answer is exact whatever the grid.
+TEST(MassProps, BallUnionOfManySpheresIsBoundedAndExactWhenApart) {
+  std::vector<Ball> balls;
+  for (int k = 0; k < 20000; ++k) balls.push_back({Vec3(3.0 * k, 0, 0), 1.0});
+  const auto   mp = BallUnionMassProperties(balls, 1.0, "rod");
+  const double V  = 20000 * 4.0 / 3.0 * kPi;
+  EXPECT_NEAR(mp.volume, V, 1e-12 * V);
+  EXPECT_NEAR(mp.com.x, 1.5 * 19999, 1e-9 * 1.5 * 19999);
 }

@@ -45,7 +45,8 @@ struct Ball {
 
 // Mass properties of a homogeneous body that is the union of balls (a clump of spheres,
 // overlapping or not). Moments of each line parallel to z through a grid of cells over the
-// union's shadow (cell size about the smallest radius / 64, at most 1024 x 1024 cells) are
+// union's shadow (cell size about the smallest radius / 64, at most 1024 x 1024 cells and
+// about 1e8 sphere tests: a clump of many spheres gets a coarser grid) are
 // exact in z; across the lines a midpoint rule, corrected by each ball's exact moments minus
 // its own grid estimate, so that one ball or balls that do not overlap are exact to
 // round-off. Throws InputError naming body_name (and the sphere) for no balls, a radius not
