@@ -786,7 +786,7 @@ PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal
   for (int i = 0; i < nl_; ++i) {
     const Primitive &p = prim_[i];
     if (p.shape != kSphere || p.fixed || p.mat < 0 || p.mat >= gnmat_ || !(p.mass > 0)) continue;
-    const double w = fdem::kernels::GranularStableOmega(gtable_[(size_t)p.mat * gnmat_ + p.mat], p.mass, p.radius);
+    const double w = fdem::kernels::GranularStableOmega(gtable_[(size_t)p.mat * gnmat_ + p.mat], p.mass, p.radius, p.offset, p.inertia);
     if (w * w > loc.val) loc = {w * w, (int)adapters_.size()};
   }
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));

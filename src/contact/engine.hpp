@@ -46,6 +46,8 @@ struct Primitive {
                              // the rigid adapter: 1 for a sphere of a clump)
   double       radius  = 0;  // sphere: its radius
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
+  double       offset  = 0;  // a sphere of a clump: its centre's distance from the clump's centre of mass, and
+  double       inertia = 0;  // the clump's least principal moment (the time-step check, GranularStableOmega)
 };
 
 // The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,

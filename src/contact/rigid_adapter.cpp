@@ -114,6 +114,8 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       p.radius = sk.balls[k][3];
       p.mass   = p.fixed ? 0 : f.mass[b];
       p.flags  = 1; // a clump's sphere (BodyName)
+      p.offset  = std::sqrt(sk.balls[k][0] * sk.balls[k][0] + sk.balls[k][1] * sk.balls[k][1] + sk.balls[k][2] * sk.balls[k][2]);
+      p.inertia = std::min({rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]});
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
       prim_tet_.push_back((int)k);

@@ -154,23 +154,28 @@ double HertzContactTime(double estar, double rstar, double mstar, double v) {
 }
 
 
-double GranularStableOmega(const GranularPair &p, double mass, double radius) {
-  const double mstar = 0.5 * mass, rstar = 0.5 * radius, mobility = 3.5; // 1 + m r^2 / I of a solid sphere
+double GranularStableOmega(const GranularPair &p, double mass, double radius, double offset, double inertia) {
+  // how much more mobile the contact point is than the centre of mass, along the normal and across
+  // it: 1 + m lever^2 / I, the lever of the normal force |offset| at most and of the tangential
+  // |offset| + radius (a solid sphere: 1 and 1 + m r^2 / (2/5 m r^2) = 3.5)
+  const double I        = inertia > 0 ? inertia : 0.4 * mass * radius * radius;
+  const double mnormal  = 1 + mass * offset * offset / I, mobility = 1 + mass * (offset + radius) * (offset + radius) / I;
+  const double mstar = 0.5 * mass, rstar = 0.5 * radius;
   double kn, kt, zn, zt;
   if (p.law == GranularLaw::Hooke) {
     const double gn = p.gamma_n > 0 || !(p.restitution < 1) ? p.gamma_n : HookeDampingForRestitution(p.restitution, p.kn, mstar);
     kn = p.kn;
     kt = p.kt;
-    zn = kn > 0 ? 0.5 * gn * std::sqrt(mstar / kn) : 0;
+    zn = kn > 0 ? 0.5 * gn * std::sqrt(mstar * mnormal / kn) : 0;
     zt = kt > 0 ? 0.5 * p.gamma_t * std::sqrt(mstar * mobility / kt) : 0;
   } else {
     const double a = std::sqrt(rstar * 0.01 * radius);
     kn = 2.0 * p.estar * a;
     kt = 8.0 * p.gstar * a;
-    zn = 0.5 * p.alpha;                      // cn = alpha sqrt(m* kn) = 2 zn sqrt(m* kn)
+    zn = 0.5 * p.alpha * std::sqrt(mnormal); // cn = alpha sqrt(m* kn) = 2 zn sqrt(m* kn / mnormal)
     zt = 0.5 * p.alpha * std::sqrt(mobility); // ct = alpha sqrt(m* kt) against the mobile mass m* / 3.5
   }
-  const double wn = std::sqrt(kn / mstar) * (zn + std::sqrt(1 + zn * zn));
+  const double wn = std::sqrt(mnormal * kn / mstar) * (zn + std::sqrt(1 + zn * zn));
   const double wt = std::sqrt(mobility * kt / mstar) * (zt + std::sqrt(1 + zt * zt));
   return std::max(wn, wt);
 }

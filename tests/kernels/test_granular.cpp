@@ -303,3 +303,22 @@ TEST(Granular, StableOmegaBoundsTheStepOfAPressedPair) {
   EXPECT_GT(PressedPairGrowth(hertz, R, m, 0.01 * R, 0.9 * 2 / w_n, 4000), 1e3);
   EXPECT_GT(PressedPairGrowth(hooke_damped, R, m, 0.01 * R, 0.9 * 2 / std::sqrt(hooke.kn / (0.5 * m)), 4000), 1e3);
 }
+
+// A sphere of a clump: with no offset and a solid sphere's moment it is the sphere's own bound; an
+// offset raises it as the contact point's mobility 1 + m d^2 / I (normal: d = offset; across:
+// d = offset + radius), here for an undamped Hooke pair, where the bound is exactly sqrt(mobility k / m*).
+TEST(Granular, StableOmegaOfAClumpSphereCountsItsLever) {
+  GranularMaterial g;
+  g.law     = GranularLaw::Hooke;
+  g.law_set = true;
+  g.kn      = 2.0e5;
+  g.kt      = 2.0 / 7.0 * g.kn;
+  const GranularPair p = MixGranular(g, g, "test");
+  const double       m = 2.0, r = 0.01, I = 0.4 * m * r * r;
+  EXPECT_EQ(GranularStableOmega(p, m, r), GranularStableOmega(p, m, r, 0.0, I));
+  EXPECT_NEAR(GranularStableOmega(p, m, r), std::sqrt(3.5 * p.kt / (0.5 * m)), 1e-12 * GranularStableOmega(p, m, r));
+  const double d = 0.03, Ic = 1e-4; // a sphere 3 cm from the centre of mass of a clump of least moment 1e-4 kg m^2
+  const double wn = std::sqrt((1 + m * d * d / Ic) * p.kn / (0.5 * m)), wt = std::sqrt((1 + m * (d + r) * (d + r) / Ic) * p.kt / (0.5 * m));
+  EXPECT_NEAR(GranularStableOmega(p, m, r, d, Ic), std::max(wn, wt), 1e-12 * std::max(wn, wt));
+  EXPECT_GT(GranularStableOmega(p, m, r, d, Ic), 2.5 * GranularStableOmega(p, m, r));
+}

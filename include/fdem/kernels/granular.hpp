@@ -101,7 +101,11 @@ double HookeContactTime(double kn, double gamma_n, double mstar);
 // centre), each multiplied by zeta + sqrt(1 + zeta^2) for its damping ratio zeta (the
 // central-difference limit of a damped oscillator, K = 2 (sqrt(1 + zeta^2) - zeta)).
 // Hertz's stiffnesses are taken at an overlap of 1% of the radius.
-double GranularStableOmega(const GranularPair &p, double mass, double radius);
+// A sphere of a clump (offset: its centre's distance from the clump's centre of mass,
+// inertia: the clump's least principal moment) turns its whole body: its contact point is
+// 1 + m offset^2 / I times as mobile along the normal and 1 + m (offset + radius)^2 / I across
+// it (offset 0 and inertia 0: a solid sphere, 1 and 3.5).
+double GranularStableOmega(const GranularPair &p, double mass, double radius, double offset = 0, double inertia = 0);
 
 // Hertz's elastic head-on impact at relative speed v: peak force and contact
 // duration for E*, R*, m*.
