@@ -158,8 +158,8 @@ double GranularStableOmega(const GranularPair &p, double mass, double radius, do
   // how much more mobile the contact point is than the centre of mass, along the normal and across
   // it: 1 + m lever^2 / I, the lever of the normal force |offset| at most and of the tangential
   // |offset| + radius (a solid sphere: 1 and 1 + m r^2 / (2/5 m r^2) = 3.5)
-  const double I        = inertia > 0 ? inertia : 0.4 * mass * radius * radius;
-  const double mnormal  = 1 + mass * offset * offset / I, mobility = 1 + mass * (offset + radius) * (offset + radius) / I;
+  const double mnormal  = inertia > 0 ? 1 + mass * offset * offset / inertia : 1;
+  const double mobility = inertia > 0 ? 1 + mass * (offset + radius) * (offset + radius) / inertia : 3.5;
   const double mstar = 0.5 * mass, rstar = 0.5 * radius;
   double kn, kt, zn, zt;
   if (p.law == GranularLaw::Hooke) {

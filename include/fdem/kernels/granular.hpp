@@ -104,7 +104,7 @@ double HookeContactTime(double kn, double gamma_n, double mstar);
 // A sphere of a clump (offset: its centre's distance from the clump's centre of mass,
 // inertia: the clump's least principal moment) turns its whole body: its contact point is
 // 1 + m offset^2 / I times as mobile along the normal and 1 + m (offset + radius)^2 / I across
-// it (offset 0 and inertia 0: a solid sphere, 1 and 3.5).
+// it (inertia 0: a solid sphere, exactly 1 and 3.5).
 double GranularStableOmega(const GranularPair &p, double mass, double radius, double offset = 0, double inertia = 0);
 
 // Hertz's elastic head-on impact at relative speed v: peak force and contact
