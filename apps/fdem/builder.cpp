@@ -81,7 +81,7 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
   PetscCall(FDEMRigidSetFromOptions(s.rb));
   PetscInt moving = 0, spheres = 0;
   for (int i : s.rigid_bodies) moving += !sc.bodies[i].fixed && !sc.bodies[i].moved;
-  for (int i : s.rigid_bodies) spheres += sc.bodies[i].model == "sphere" || sc.bodies[i].shape.kind == ShapeKind::Spheres; // and clumps
+  for (int i : s.rigid_bodies) spheres += sc.bodies[i].Granular();
   // every material as a granular material (index = its place in the scene), for the contacts of spheres
   for (const Material &m : sc.materials) {
     FDEMGranularMaterial g;
@@ -541,7 +541,7 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     };
     PetscCall(part(18, "rigid_xRvH", &p.r, &p.nr, &p.sr));
     bool spheres = false;
-    for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].model == "sphere" || s.scene->bodies[i].shape.kind == ShapeKind::Spheres;
+    for (int i : s.rigid_bodies) spheres = spheres || s.scene->bodies[i].Granular();
     if (spheres) PetscCall(part(kSprings, "rigid_springs", &p.h, &p.nh, &p.sh));
     PetscCall(part(4, "rigid_image_work", &p.g, &p.ng, &p.sg));
   }

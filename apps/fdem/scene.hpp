@@ -88,6 +88,8 @@ struct Body {
   Where       move_where;
   VelocityField velocity_field;      // deformable: added to velocity + angular_velocity x (X - centroid)
   Where       where;
+  // a sphere or a clump: its contacts take the granular laws (and keep tangential springs)
+  bool Granular() const { return model == "sphere" || shape.kind == ShapeKind::Spheres; }
 };
 
 struct Pack {

@@ -72,12 +72,12 @@ kernels::TetMesh ShapeMesh(const Body &b) {
       return FromTets(X, T);
     case ShapeKind::Spheres: // a clump: each sphere's octahedron (its bounding box, for the scene's extent and the packing)
       for (size_t k = 0; k < s.points.size(); ++k) {
-        const int  base = (int)X.size();
-        const Vec3 c = s.points[k];
-        const double r = s.radii[k];
-        for (const Vec3 &e : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)}) X.push_back(c + r * e);
-        X.push_back(c);
-        for (const auto &f : {std::array<int, 3>{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}) T.push_back({base + 6, base + f[0], base + f[1], base + f[2]});
+        std::vector<Vec3>               Xk;
+        std::vector<std::array<int, 4>> Tk;
+        kernels::MakeEllipsoidTets(Vec3(s.radii[k], s.radii[k], s.radii[k]), 0, Xk, Tk);
+        const int base = (int)X.size();
+        for (const Vec3 &p : Xk) X.push_back(s.points[k] + p);
+        for (const auto &t : Tk) T.push_back({base + t[0], base + t[1], base + t[2], base + t[3]});
       }
       return FromTets(X, T);
     case ShapeKind::Pebble:

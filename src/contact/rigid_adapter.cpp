@@ -171,9 +171,10 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
       last             = j;
       xc               = ToVec3(L.x(q_, b));
       R                = ToMat3(L.R(q_, b));
-      world_.resize(sk.nodes.size());
-      if (!clump_[j])
+      if (!clump_[j]) {
+        world_.resize(sk.nodes.size());
         for (size_t k = 0; k < sk.nodes.size(); ++k) world_[k] = xc + R * sk.nodes[k];
+      }
       if (v) {
         vc = ToVec3(L.v(u_, b));
         w  = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
@@ -202,14 +203,20 @@ PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to
   const RigidLayout L(rb_->n);
   PetscFunctionBegin;
   PetscCheck(u_ || n == 0, rb_->comm, PETSC_ERR_ARG_WRONGSTATE, "Contact: spheres need the rigid bodies' velocities, which this force evaluation did not provide");
+  int  last = -1; // the clump whose R and omega are at hand (its spheres often come in a row)
+  Mat3 R;
+  Vec3 w;
   for (int m = 0; m < n; ++m) {
     const int      j = prim_body_[which[m]];
     const PetscInt b = body_[j];
     if (clump_[j]) { // a sphere of a clump, at x + R p, moving at v + omega x R p
+      if (j != last) {
+        last = j;
+        R    = ToMat3(L.R(q_, b));
+        w    = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
+      }
       const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
-      const Mat3  R    = ToMat3(L.R(q_, b));
       const Vec3  r    = R * Vec3(ball[0], ball[1], ball[2]);
-      const Vec3  w    = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
       s[to[m]]         = fdem::kernels::SphereState{ToVec3(L.x(q_, b)) + r, ToVec3(L.v(u_, b)) + cross(w, r), w, ball[3]};
       continue;
     }
@@ -221,6 +228,8 @@ PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to
 
 PetscErrorCode RigidAdapter::AddSphereForces(int n, const int *which, const int *from, const fdem::kernels::SphereSum *f) {
   const RigidLayout L(rb_->n);
+  int               last = -1; // the clump whose R is at hand
+  Mat3              R;
   PetscFunctionBegin;
   for (int m = 0; m < n; ++m) {
     const int                       j = prim_body_[which[m]];
@@ -228,8 +237,9 @@ PetscErrorCode RigidAdapter::AddSphereForces(int n, const int *which, const int 
     const fdem::kernels::SphereSum &g = f[from[m]];
     Vec3                            M = g.t;
     if (clump_[j]) { // the force acts at the sphere's centre, x + R p
+      if (j != last) last = j, R = ToMat3(L.R(q_, b));
       const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
-      M += cross(ToMat3(L.R(q_, b)) * Vec3(ball[0], ball[1], ball[2]), g.f);
+      M += cross(R * Vec3(ball[0], ball[1], ball[2]), g.f);
     }
     for (int d = 0; d < 3; ++d) {
       L.F(fm_, b)[d] += g.f[d];

@@ -510,10 +510,10 @@ PetscErrorCode FDEMRigidAddClump(FDEMRigid rb, const char *name, PetscInt n, con
       const double r = balls[4 * k + 3];
       s.balls.push_back({p.x, p.y, p.z, r});
       rmax             = std::max(rmax, fdem::kernels::norm(p) + r);
-      const int base   = (int)s.nodes.size();
-      const Vec3 oct[6] = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
-      for (const Vec3 &e : oct) s.nodes.push_back(p + r * e);
-      for (const auto &f : {std::array<int, 3>{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}) s.faces.push_back({base + f[0], base + f[1], base + f[2]});
+      const int   base = (int)s.nodes.size();
+      const Skin &oct  = fdem::model::UnitOctahedron();
+      for (const Vec3 &e : oct.nodes) s.nodes.push_back(p + r * e);
+      for (const auto &f : oct.faces) s.faces.push_back({base + f[0], base + f[1], base + f[2]});
     }
     rb->skins.push_back(std::move(s));
     const Mat3 R = (Q ? FromRowMajor(Q) : Mat3::identity()) * mp.principal_axes;

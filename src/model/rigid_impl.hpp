@@ -25,6 +25,8 @@ struct Skin {
   // the contact primitives the skin lends: its tetrahedra, or its spheres
   size_t Primitives() const { return tets.size() + balls.size(); }
 };
+// The octahedron of unit radius (nodes and outward faces) that draws a sphere in the output.
+const Skin &UnitOctahedron();
 // The named layout of n rigid bodies' state and of the arrays of the split RHS:
 //   state     U = [x (3n) | R (9n) | v (3n) | H (3n)]   centre, orientation (row-major,
 //                                                        body to space), velocity, space-frame

@@ -27,9 +27,7 @@ using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 using Skin = fdem::model::Skin;
 
-namespace {
-
-const Skin &Octahedron() {
+const Skin &fdem::model::UnitOctahedron() {
   static const Skin oct = [] {
     Skin s;
     s.name  = "octahedron";
@@ -40,8 +38,6 @@ const Skin &Octahedron() {
   }();
   return oct;
 }
-
-} // namespace
 
 PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step, PetscReal t) {
   PetscInt                n;
@@ -58,7 +54,7 @@ PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step,
   // local vertex count first, to number the vertices globally
   PetscInt nvloc = 0, ntloc = 0;
   for (PetscInt b = 0; b < n; ++b) {
-    const Skin &s = f.skin[b] >= 0 ? rb->skins[f.skin[b]] : Octahedron();
+    const Skin &s = f.skin[b] >= 0 ? rb->skins[f.skin[b]] : fdem::model::UnitOctahedron();
     nvloc += (PetscInt)s.nodes.size();
     ntloc += (PetscInt)s.faces.size();
   }
@@ -72,7 +68,7 @@ PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step,
   PetscInt vnext = voff;
   for (PetscInt b = 0; b < n; ++b) {
     const bool  mesh  = f.skin[b] >= 0;
-    const Skin &s     = mesh ? rb->skins[f.skin[b]] : Octahedron();
+    const Skin &s     = mesh ? rb->skins[f.skin[b]] : fdem::model::UnitOctahedron();
     const double scale = mesh ? 1.0 : f.radius[b];
     Mat3        R;
     for (int r = 0; r < 3; ++r)
