@@ -17,13 +17,15 @@
 // classes that receive the same label (they touch the same class elsewhere). When a round
 // changes no label on any rank (one MPI_Allreduce), every class has the smallest id in it;
 // the smallest label travels at least one hop between the ranks' pieces per round, so the
-// rounds are at most one more than the number of those pieces, which bounds the loop. Fragments
-// are then numbered by body and smallest cell id, the same order on any number of ranks, from
-// the (body, id) pairs of all fragments (one MPI_Allgatherv). Cost of a call: a pass over the
-// rank's cells, nodes and joints, two exchanges over the joint SF, the rendezvous, then per
-// round two exchanges over the straddling joints, two over the shared nodes and one
-// MPI_Allreduce, each the size of the rank boundaries. Memory per rank: its cells, nodes and
-// joints, the classes at its rank boundaries, and two integers per fragment of the whole mesh.
+// rounds are at most one more than the number of those pieces, which bounds the loop. For
+// FDEMDeformableGetFragments, whose answer is every fragment on every rank, the fragments are
+// then numbered by body and smallest cell id, the same order on any number of ranks, from the
+// (body, id) pairs of all fragments (one MPI_Allgatherv); the contact, which needs only the
+// free faces, node keys and broken pairs, skips that. Cost of a call: a pass over the rank's
+// cells, nodes and joints, two exchanges over the joint SF, the rendezvous, then per round two
+// exchanges over the straddling joints, two over the shared nodes and one MPI_Allreduce, each
+// the size of the rank boundaries. Memory per rank: its cells, nodes and joints and the classes
+// at its rank boundaries (and, when numbering, two integers per fragment of the whole mesh).
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -190,7 +192,7 @@ PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nb
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t) {
+PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t, bool number) {
   constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableFractureTopology"));
@@ -369,8 +371,8 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   }
   PetscCall(PetscSFDestroy(&vsf));
   PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " rounds of label exchange (bound %" PetscInt_FMT ")\n", round, bound + 1));
-  // 5. The answer per cell; the fragments numbered by body and smallest cell id, from the
-  //    (body, id) of every fragment, given by the rank of its smallest cell.
+  // 5. The answer per cell; when asked, the fragments numbered by body and smallest cell id,
+  //    from the (body, id) of every fragment, given by the rank of its smallest cell.
   PetscCall(DeformableJointCounts(d, &t.nbroken, &t.ndamaged));
   t.broken_pairs = std::move(pairs);
   t.cell_free.resize(nc);
@@ -383,8 +385,9 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
     }
     t.cell_free[e] = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0));
-    if (cells.Label(e) == d->cell_gid[e]) mine.push_back(d->ed.body[e]), mine.push_back(d->cell_gid[e]);
+    if (number && cells.Label(e) == d->cell_gid[e]) mine.push_back(d->ed.body[e]), mine.push_back(d->cell_gid[e]);
   }
+  if (!number) PetscFunctionReturn(0);
   std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);
   const PetscMPIInt        nmine = (PetscMPIInt)mine.size();
   PetscCallMPI(MPI_Allgather(&nmine, 1, MPI_INT, cnt.data(), 1, MPI_INT, d->comm));
@@ -407,7 +410,7 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
   PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
-  PetscCall(fdem::model::DeformableFractureTopology(d, t));
+  PetscCall(fdem::model::DeformableFractureTopology(d, t, true));
   const PetscInt nf = t.nfragments;
   if (count) *count = nf;
   if (!fragments) PetscFunctionReturn(0);

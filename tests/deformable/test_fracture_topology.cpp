@@ -127,8 +127,17 @@ int main(int argc, char **argv) {
   PetscCall(Break(d));
   PetscCall(Break(s));
   fdem::model::FractureTopology t, ts;
-  PetscCall(fdem::model::DeformableFractureTopology(d, t));
-  PetscCall(fdem::model::DeformableFractureTopology(s, ts));
+  PetscCall(fdem::model::DeformableFractureTopology(d, t, true));
+  PetscCall(fdem::model::DeformableFractureTopology(s, ts, true));
+  { // the contact's call, without the numbering: the same faces, keys and broken pairs, and
+    // nothing per fragment of the whole mesh
+    fdem::model::FractureTopology u;
+    PetscCall(fdem::model::DeformableFractureTopology(d, u, false));
+    PetscInt off = u.cell_free != t.cell_free || u.cell_key != t.cell_key || u.broken_pairs != t.broken_pairs || u.nbroken != t.nbroken || u.ndamaged != t.ndamaged, goff;
+    off += u.nfragments != 0 || !u.fragment_body.empty() || !u.cell_fragment.empty();
+    PetscCallMPI(MPIU_Allreduce(&off, &goff, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(goff == 0, "the topology without the fragments' numbering differs from the one with it on %" PetscInt_FMT " rank(s)", goff);
+  }
   std::map<PetscInt, CellAnswer> mine, whole;
   std::vector<Vec3>              centroid;
   PetscCall(Answers(d, t, mine, &centroid));
