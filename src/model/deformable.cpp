@@ -22,18 +22,6 @@ using namespace fdem::model::deformable;
 const char *const FDEMMaterialModels[] = {FDEM_MATERIAL_TABLE(FDEM_MATERIAL_NAME) "FDEMMaterialModel", "FDEM_MATERIAL_", nullptr};
 #undef FDEM_MATERIAL_NAME
 
-PetscErrorCode fdem::model::deformable::CheckSetUp(FDEMDeformable d, const char *fn) {
-  PetscFunctionBegin;
-  PetscCheck(d->setup, d->comm, PETSC_ERR_ARG_WRONGSTATE, "%s: call FDEMDeformableSetUp() first", fn);
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode fdem::model::deformable::CheckNotSetUp(FDEMDeformable d, const char *fn) {
-  PetscFunctionBegin;
-  PetscCheck(!d->setup, d->comm, PETSC_ERR_ARG_WRONGSTATE, "%s: the mesh is already set up; call it before FDEMDeformableSetUp()", fn);
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FDEMDeformableCreate(MPI_Comm comm, FDEMDeformable *out) {
   PetscFunctionBegin;
   FDEMDeformable d = new (std::nothrow) _n_FDEMDeformable();

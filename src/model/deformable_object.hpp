@@ -104,9 +104,17 @@ struct _n_FDEMDeformable {
 
 namespace fdem::model::deformable {
 
-// "fn: call FDEMDeformableSetUp() first" / "...: the mesh is already set up" (deformable.cpp).
-PetscErrorCode CheckSetUp(FDEMDeformable d, const char *fn);
-PetscErrorCode CheckNotSetUp(FDEMDeformable d, const char *fn);
+// "fn: call FDEMDeformableSetUp() first" / "fn: the mesh is already set up".
+inline PetscErrorCode CheckSetUp(FDEMDeformable d, const char *fn) {
+  PetscFunctionBegin;
+  PetscCheck(d->setup, d->comm, PETSC_ERR_ARG_WRONGSTATE, "%s: call FDEMDeformableSetUp() first", fn);
+  PetscFunctionReturn(0);
+}
+inline PetscErrorCode CheckNotSetUp(FDEMDeformable d, const char *fn) {
+  PetscFunctionBegin;
+  PetscCheck(!d->setup, d->comm, PETSC_ERR_ARG_WRONGSTATE, "%s: the mesh is already set up; call it before FDEMDeformableSetUp()", fn);
+  PetscFunctionReturn(0);
+}
 
 // Rank 0, before the partition: resolves the material of every body and checks
 // the mesh (node indices, positive volumes). Throws InputError with what is

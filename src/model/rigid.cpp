@@ -185,6 +185,18 @@ void fdem::model::RigidPositionRate(FDEMRigid rb, const PetscScalar *p, const Pe
   }
 }
 
+const fdem::model::Skin &fdem::model::UnitOctahedron() {
+  static const fdem::model::Skin oct = [] {
+    fdem::model::Skin s;
+    s.name  = "octahedron";
+    s.nodes = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+    // outward normals: (b - a) x (c - a) points away from the centre
+    s.faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    return s;
+  }();
+  return oct;
+}
+
 PetscErrorCode fdem::model::RigidGetFields(DM sw, RigidFields &f) {
   PetscFunctionBegin;
   PetscCall(DMSwarmGetField(sw, "x", nullptr, nullptr, (void **)&f.x));

@@ -27,18 +27,6 @@ using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 using Skin = fdem::model::Skin;
 
-const Skin &fdem::model::UnitOctahedron() {
-  static const Skin oct = [] {
-    Skin s;
-    s.name  = "octahedron";
-    s.nodes = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
-    // outward normals: (b - a) x (c - a) points away from the centre
-    s.faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-    return s;
-  }();
-  return oct;
-}
-
 PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step, PetscReal t) {
   PetscInt                n;
   fdem::model::RigidFields f;
