@@ -145,6 +145,19 @@ void ApplyAuto(Scene &sc, double strain_limit, std::vector<std::string> &report)
     b.model = a.model;
     report.push_back("model: auto: body '" + b.name + "' is " + a.model + " (" + a.why + ")");
   }
+  // Walls for grains: when every body that moves is a sphere or a clump (no deformable body, no
+  // rigid polyhedron that moves), a fixed rigid box meets spheres only, whose contact sees its
+  // surface alone (doc/spheres.md, "Walls"): one cell per side (12 surface triangles) instead of
+  // cubes of its smallest side, unless the scene gives its resolution.
+  bool grains_only = true;
+  for (const Body &b : sc.bodies) grains_only = grains_only && (b.model == "sphere" || (b.model == "rigid" && (b.Granular() || b.fixed)));
+  int walls = 0;
+  for (Body &b : sc.bodies)
+    if (grains_only && b.model == "rigid" && b.fixed && b.shape.kind == ShapeKind::Box && b.resolution < 0) {
+      b.resolution = std::max({b.shape.size.x, b.shape.size.y, b.shape.size.z});
+      ++walls;
+    }
+  if (walls) report.push_back("walls: " + std::to_string(walls) + " fixed box" + (walls > 1 ? "es" : "") + " meshed as one cell each (only spheres and clumps meet them; resolution: sets it)");
 }
 
 std::vector<std::string> AdviceReport(const Scene &sc, double strain_limit, size_t max_lines) {
