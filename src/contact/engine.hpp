@@ -39,6 +39,9 @@ struct Primitive {
   double       margin  = 0; // set at each search: how far it may move before the next (>= buffer/2)
   std::int32_t shape   = kTetrahedron;
   std::int32_t surface = 15; // tetrahedron: bit o set when its face opposite vertex o lies on the body's surface
+  std::int32_t facet[4] = {-1, -1, -1, -1}; // a rigid skin's surface face opposite vertex o: its flat face (coplanar
+                                             // surface faces joined by edges), numbered within the skin; -1: none.
+                                             // A sphere's spring on a flat face is keyed by it (doc/spheres.md)
   std::int32_t push    = 15; // tetrahedron: bit o set when its face opposite vertex o must be pushed by another's
                              // potential (a rigid skin: its surface faces; the shared ones cancel, doc/contact.md)
   std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none

@@ -317,22 +317,36 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         c.rstar   = S.radius;
         c.mstar   = EffectiveMass(S.mass, T.mass);
         const GranularPair &law = ForContact(*Law(S, T), c.mstar, tmp);
-        // the feature's key: the body and the node ids of the face, edge or vertex touched
-        const auto &tri = tris[ct.tri];
-        PetscInt    f[3];
-        int         nf = 0;
-        switch (ct.feature) {
-        case TriFeature::Face: f[0] = ids[tri[0]], f[1] = ids[tri[1]], f[2] = ids[tri[2]], nf = 3; break;
-        case TriFeature::EdgeAB: f[0] = ids[tri[0]], f[1] = ids[tri[1]], nf = 2; break;
-        case TriFeature::EdgeBC: f[0] = ids[tri[1]], f[1] = ids[tri[2]], nf = 2; break;
-        case TriFeature::EdgeCA: f[0] = ids[tri[2]], f[1] = ids[tri[0]], nf = 2; break;
-        case TriFeature::VertexA: f[0] = ids[tri[0]], nf = 1; break;
-        case TriFeature::VertexB: f[0] = ids[tri[1]], nf = 1; break;
-        case TriFeature::VertexC: f[0] = ids[tri[2]], nf = 1; break;
+        // the feature's key: on a flat face of a rigid skin (the triangle's face, or an edge or
+        // vertex right below the centre, the normal the face's), the body and that flat face, so
+        // that the spring carries over from one triangle of the face to the next; elsewhere the
+        // body and the node ids of the face, edge or vertex touched
+        const auto        &tri   = tris[ct.tri];
+        const std::int32_t facet = T.facet[6 - s4[1] - s4[2] - s4[3]]; // the face opposite the fourth vertex
+        bool               flat  = facet >= 0 && ct.feature == TriFeature::Face;
+        if (facet >= 0 && !flat) {
+          const Vec3   nt  = cross(X(t)[s4[2]] - X(t)[s4[1]], X(t)[s4[3]] - X(t)[s4[1]]);
+          const double len = norm(nt);
+          flat             = len > 0 && std::fabs(dot(ct.n, nt)) > (1 - 1e-12) * len; // the triangle's winding is either way
         }
-        std::sort(f, f + nf);
-        std::uint64_t h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
-        for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
+        std::uint64_t h;
+        if (flat) h = Mix(Mix(Mix(3, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)facet);
+        else {
+          PetscInt f[3];
+          int      nf = 0;
+          switch (ct.feature) {
+          case TriFeature::Face: f[0] = ids[tri[0]], f[1] = ids[tri[1]], f[2] = ids[tri[2]], nf = 3; break;
+          case TriFeature::EdgeAB: f[0] = ids[tri[0]], f[1] = ids[tri[1]], nf = 2; break;
+          case TriFeature::EdgeBC: f[0] = ids[tri[1]], f[1] = ids[tri[2]], nf = 2; break;
+          case TriFeature::EdgeCA: f[0] = ids[tri[2]], f[1] = ids[tri[0]], nf = 2; break;
+          case TriFeature::VertexA: f[0] = ids[tri[0]], nf = 1; break;
+          case TriFeature::VertexB: f[0] = ids[tri[1]], nf = 1; break;
+          case TriFeature::VertexC: f[0] = ids[tri[2]], nf = 1; break;
+          }
+          std::sort(f, f + nf);
+          h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
+          for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
+        }
         if (S.elem) h = Mix(h, (std::uint64_t)S.elem); // the sphere within its clump
         const std::int64_t   key = SlotKey(gtag_, h);
         double              *sp  = spring(si, key);

@@ -14,8 +14,11 @@ using fdem::model::ToVec3;
 
 static_assert(fdem::model::kHistoryBytes == kHistorySlots * sizeof(HistorySlot), "the rigid swarm's history field holds the engine's slots");
 
-// Which faces of each skin tetrahedron lie on the skin's surface (bit o: the face opposite vertex o).
-static std::vector<std::int32_t> SurfaceFaces(const fdem::model::Skin &sk) {
+// Which faces of each skin tetrahedron lie on the skin's surface (bit o: the face opposite vertex
+// o), and the flat face each surface face belongs to: surface faces that share an edge and lie in
+// one plane (unit normals within 1e-12, in the body frame) are joined; the flat faces are
+// numbered from 0 in the order of their first face (Primitive::facet).
+static RigidAdapter::SkinFaces SurfaceFaces(const fdem::model::Skin &sk) {
   std::map<std::array<int, 3>, int> count;
   auto                              face = [&](const std::array<int, 4> &T, int o) {
     std::array<int, 3> f = {T[(o + 1) % 4], T[(o + 2) % 4], T[(o + 3) % 4]};
@@ -24,11 +27,52 @@ static std::vector<std::int32_t> SurfaceFaces(const fdem::model::Skin &sk) {
   };
   for (const auto &T : sk.tets)
     for (int o = 0; o < 4; ++o) ++count[face(T, o)];
-  std::vector<std::int32_t> s(sk.tets.size(), 0);
+  RigidAdapter::SkinFaces out;
+  out.surface.assign(sk.tets.size(), 0);
+  out.facet.assign(sk.tets.size(), {-1, -1, -1, -1});
+  std::vector<int>  parent; // union-find over the surface faces
+  std::vector<Vec3> normal;
+  std::vector<std::array<int, 2>> where;
+  std::map<std::array<int, 2>, std::vector<int>> by_edge;
   for (size_t t = 0; t < sk.tets.size(); ++t)
-    for (int o = 0; o < 4; ++o)
-      if (count[face(sk.tets[t], o)] == 1) s[t] |= 1 << o;
-  return s;
+    for (int o = 0; o < 4; ++o) {
+      if (count[face(sk.tets[t], o)] != 1) continue;
+      out.surface[t] |= 1 << o;
+      const auto &T = sk.tets[t];
+      const Vec3  a = sk.nodes[T[(o + 1) % 4]], b = sk.nodes[T[(o + 2) % 4]], c = sk.nodes[T[(o + 3) % 4]];
+      const Vec3  n = cross(b - a, c - a);
+      const double len = norm(n);
+      const int   f   = (int)parent.size();
+      parent.push_back(f);
+      normal.push_back(len > 0 ? (1.0 / len) * n : Vec3(0, 0, 0));
+      where.push_back({(int)t, o});
+      for (int m = 0; m < 3; ++m) {
+        std::array<int, 2> e = {T[(o + 1 + m) % 4], T[(o + 1 + (m + 1) % 3) % 4]};
+        if (e[0] > e[1]) std::swap(e[0], e[1]);
+        by_edge[e].push_back(f);
+      }
+    }
+  auto find = [&](int f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  for (const auto &kv : by_edge)
+    for (size_t i = 0; i < kv.second.size(); ++i)
+      for (size_t j = i + 1; j < kv.second.size(); ++j) {
+        const int f = kv.second[i], g = kv.second[j];
+        if (std::fabs(dot(normal[f], normal[g])) > 1 - 1e-12) { // a face's winding follows its tetrahedron's vertex order
+          const int rf = find(f), rg = find(g);
+          if (rf != rg) parent[std::max(rf, rg)] = std::min(rf, rg);
+        }
+      }
+  std::vector<int> number(parent.size(), -1);
+  int              next = 0;
+  for (size_t f = 0; f < parent.size(); ++f) {
+    const int r = find((int)f);
+    if (number[r] < 0) number[r] = next++;
+    out.facet[where[f][0]][where[f][1]] = number[r];
+  }
+  return out;
 }
 
 PetscErrorCode RigidAdapter::HistoryBegin() {
@@ -128,7 +172,8 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       p.key     = (std::int64_t)id * tmax + (std::int64_t)t;
       p.mat     = (std::int32_t)mat;
       p.mass    = p.fixed ? 0 : f.mass[b];
-      p.surface = surface_[f.skin[b]][t];
+      p.surface = surface_[f.skin[b]].surface[t];
+      for (int o = 0; o < 4; ++o) p.facet[o] = surface_[f.skin[b]].facet[t][o];
       p.push    = p.surface; // the faces shared by two skin tetrahedra cancel in the body's force and torque
       for (int k = 0; k < 4; ++k) p.node[k] = sk.tets[t][k]; // the skin's node numbers (a sphere's surface contacts)
       prims.push_back(p);

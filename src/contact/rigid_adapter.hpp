@@ -10,6 +10,12 @@ namespace fdem::contact {
 class RigidAdapter : public Adapter {
 public:
   explicit RigidAdapter(FDEMRigid rb) : rb_(rb) {}
+  // A skin's surface faces: per tetrahedron, bit o set when its face opposite vertex o is on the
+  // surface (Primitive::surface), and the flat face it belongs to (Primitive::facet; -1 inside).
+  struct SkinFaces {
+    std::vector<std::int32_t>                surface;
+    std::vector<std::array<std::int32_t, 4>> facet;
+  };
   // Before each evaluation: positions q = [x | R] and state u = [x | R | v | H] (velocities;
   // may be null without damping and friction) of the rb->n local bodies (RigidLayout); the
   // forces and torques are added to FM = [F | M].
@@ -57,7 +63,7 @@ private:
   std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
   std::vector<char>      sphere_;       // per listed body: a sphere
   std::vector<char>      clump_;        // per listed body: a clump (its primitives are spheres, prim_tet_ their index)
-  std::vector<std::vector<std::int32_t>> surface_; // per skin: each tetrahedron's surface faces (Primitive::surface)
+  std::vector<SkinFaces> surface_; // per skin: each tetrahedron's surface faces and their flat faces
   char                  *hist_ = nullptr; // the swarm's "history" field between HistoryBegin and HistoryEnd
 };
 

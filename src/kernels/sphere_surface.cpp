@@ -115,10 +115,12 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
     for (std::size_t j = 0; j < touches.size() && keep; ++j) {
       if (j == i) continue;
       const Touch &o = touches[j];
-      if (h.kind > 0 && o.kind == h.kind && o.na == h.na && o.nb == h.nb && j < i) keep = false;     // the same edge or vertex, counted by an earlier triangle
-      else if (h.kind == 1 && o.kind == 0 && holds(o.c.tri, h.na) && holds(o.c.tri, h.nb)) keep = false;  // an edge of a face the sphere is over
-      else if (h.kind == 2 && o.kind == 0 && holds(o.c.tri, h.na)) keep = false;                          // a vertex of such a face
-      else if (h.kind == 2 && o.kind == 1 && (o.na == h.na || o.nb == h.na)) keep = false;                // a vertex of a touched edge
+      const bool same = o.kind == h.kind && o.na == h.na && o.nb == h.nb;
+      if (h.kind > 0 && same && j < i) keep = false; // the same edge or vertex, counted by an earlier triangle
+      // an edge or vertex is a closest point of the surface only if it is the closest point of
+      // every triangle that holds it: another triangle holding it with a nearer point of its own
+      // (its face, another edge or vertex) means the sphere is over that part, not this one
+      else if (h.kind > 0 && !same && holds(o.c.tri, h.na) && (h.kind == 2 || holds(o.c.tri, h.nb))) keep = false;
     }
     if (keep) kept.push_back(h);
   }

@@ -7,11 +7,12 @@ the same bodies in the same order.
   ranks_agree.py MPIEXEC FDEM SCENE TOL [driver options...]
 """
 import csv
-import math
 import os
 import subprocess
 import sys
 import tempfile
+
+from bodies_agree import compare
 
 mpiexec, fdem, scene, tol = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 more = sys.argv[5:]
@@ -27,22 +28,7 @@ for n in (1, 2):
         sys.exit(f"FAIL: exit status {r.returncode} on {n} rank(s)")
     with open(os.path.join(out, "bodies.csv")) as f:
         rows[n] = list(csv.reader(f))
-a, b = rows[1], rows[2]
-fail = []
-if a[0] != b[0] or a[0][:5] != ["id", "name", "x", "y", "z"]:
-    fail.append(f"bodies.csv headers: {a[0]} / {b[0]}")
-if [r[:2] for r in a[1:]] != [r[:2] for r in b[1:]] or len(a) < 3:
-    fail.append("the bodies (ids and names) differ between 1 and 2 ranks, or there are fewer than 2")
-dx = max(math.dist([float(x) for x in u[2:5]], [float(x) for x in v[2:5]]) for u, v in zip(a[1:], b[1:]))
-dv = max(math.dist([float(x) for x in u[5:8]], [float(x) for x in v[5:8]]) for u, v in zip(a[1:], b[1:]))
-moved = max(math.hypot(*[float(x) for x in u[5:8]]) for u in a[1:])
-print(f"{len(a) - 1} bodies: 1 vs 2 ranks, max |dx| {dx:.3g} m (bound {tol:g}), max |dv| {dv:.3g} m/s (bound {tol * 1e3:g}); largest speed {moved:.3g} m/s")
-if not dx <= tol:
-    fail.append(f"positions differ by {dx:.3g} m > {tol:g}")
-if not dv <= tol * 1e3:
-    fail.append(f"velocities differ by {dv:.3g} m/s > {tol * 1e3:g}")
-if not moved > 0.01:
-    fail.append("nothing moves: the scene tests nothing")
+fail = compare(rows[1], rows[2], tol, "1 vs 2 ranks")
 for f in fail:
     print("FAIL " + f)
 sys.exit(1 if fail else 0)

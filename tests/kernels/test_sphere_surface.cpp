@@ -158,3 +158,51 @@ TEST(SphereSurface, NearlyFlatFoldGivesOneContact) {
     }
   }
 }
+
+// A flat square meshed in 8 x 8 cells of two triangles each: wherever the sphere sits over it,
+// one contact, along the plane's normal, of overlap r - h. Without the in-plane rule a triangle
+// that shares only a vertex with the one below the centre gave a second, tilted contact on its
+// own edge whenever that edge lay between sqrt(r d) and sqrt(2 r d) of the centre's foot
+// (d the overlap), and a sphere near the square's edge touched that convex edge, or the
+// diagonal of a side face's cell, as well.
+TEST(SphereSurface, FinelyMeshedFlatFaceGivesOneContact) {
+  const int                       n = 8;
+  const double                    h = 1.0 / n, r = 0.12;
+  std::vector<Vec3>               nodes;
+  std::vector<std::array<int, 3>> tris;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) nodes.push_back(Vec3(i * h, j * h, 0));
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      tris.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      tris.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  // a side face along y = 0 (meshed to match), so that the square's edge there is a convex edge
+  const int b0 = (int)nodes.size();
+  for (int i = 0; i <= n; ++i) nodes.push_back(Vec3(i * h, 0, -0.5));
+  for (int i = 0; i < n; ++i) {
+    tris.push_back({id(i, 0), b0 + i, b0 + i + 1});
+    tris.push_back({id(i, 0), b0 + i + 1, id(i + 1, 0)});
+  }
+  std::mt19937_64                        rng(11);
+  std::uniform_real_distribution<double> u(0.02, 0.98), height(0.05, 0.1199);
+  int                                    extra_before = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Vec3 x(u(rng), u(rng), height(rng));
+    const auto cs = SphereSurfaceContacts(x, r, nodes, tris, All(tris.size()));
+    ASSERT_EQ(cs.size(), 1u) << "centre " << x.x << " " << x.y << " " << x.z;
+    EXPECT_NEAR(cs[0].overlap, r - x.z, 1e-12);
+    EXPECT_NEAR(cs[0].n.z, 1.0, 1e-12);
+    // what a second contact would have needed: a touched edge point of another triangle
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const TriangleClosest q = ClosestPointOnTriangle(x, nodes[tris[t][0]], nodes[tris[t][1]], nodes[tris[t][2]]);
+      const double          d = norm(x - q.p);
+      if (q.feature != TriFeature::Face && d < r && norm(q.p - cs[0].point) >= std::sqrt(r * cs[0].overlap) && q.p.z == 0) {
+        ++extra_before;
+        break;
+      }
+    }
+  }
+  EXPECT_GT(extra_before, 0) << "no centre of the sample met the case the rule is for";
+}
