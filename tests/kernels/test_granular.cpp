@@ -183,6 +183,25 @@ TEST(Granular, RollingResistanceOpposesRollingWithConstantTorque) {
   EXPECT_EQ(r.mroll.z, 0.0);
 }
 
+// Near rest the rolling torque is bounded by what stops the rolling within the step for a
+// rotational inertia 0.4 m* R*^2: a rolling of round-off size gets a torque of round-off size
+// (not the full mu_r R* |Fn| in a direction set by round-off), and never one that reverses it.
+TEST(Granular, RollingTorqueNearRestIsBoundedByTheStep) {
+  GranularPair p;
+  p.law     = GranularLaw::Hooke;
+  p.kn      = 1000;
+  p.mu_roll = 0.02;
+  const double dt = 1e-3, mstar = 1.0, rstar = 0.5, full = 0.02 * 0.5 * 10.0; // mu_r R* |Fn|
+  for (double w : {3.0, 1e-2, 1e-6, 1e-18}) {
+    GranularContact c{{0, 0, 1}, 0.01, {}, {w, 0, 7}, rstar, mstar};
+    Vec3            shear;
+    const GranularResult r   = GranularForce(p, c, dt, shear);
+    const double         cap = kRollingInertia * mstar * rstar * rstar * w / dt;
+    EXPECT_NEAR(r.mroll.x, -std::min(full, cap), 1e-15 * full) << "rolling " << w;
+    EXPECT_LE(std::fabs(r.mroll.x) * dt, kRollingInertia * mstar * rstar * rstar * w * (1 + 1e-15)) << "rolling " << w;
+  }
+}
+
 TEST(Granular, MixingRule) {
   GranularMaterial a = Glass(), b = Glass();
   a.restitution = 0.9;

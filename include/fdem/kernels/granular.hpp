@@ -7,6 +7,9 @@
 #pragma once
 #include "fdem/kernels/vec3.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace fdem::kernels {
 
 enum class GranularLaw { Hooke, Hertz };
@@ -47,6 +50,10 @@ struct GranularContact {
   double rstar;    // effective radius r_i r_j / (r_i + r_j) (r_i for a wall)
   double mstar;    // effective mass m_i m_j / (m_i + m_j) (m_i for a fixed j)
 };
+
+// The rotational inertia, in units of m* R*^2, that bounds the rolling torque of one step: a
+// solid sphere's 2/5, no more than a pair of spheres' or a clump's (doc/spheres.md).
+constexpr double kRollingInertia = 0.4;
 
 struct GranularResult {
   Vec3 fn;     // normal force on i (N); j gets -fn
@@ -156,9 +163,13 @@ inline GranularResult GranularForce(const GranularPair &p, const GranularContact
   r.ft = ft;
 
   if (p.mu_roll > 0) {
-    const Vec3 wr = c.wrel - dot(c.wrel, c.n) * c.n;
-    const double w = norm(wr);
-    if (w > 0) r.mroll = (-p.mu_roll * c.rstar * norm(r.fn) / w) * wr;
+    const Vec3   wr = c.wrel - dot(c.wrel, c.n) * c.n;
+    const double w  = norm(wr);
+    // at most what stops the rolling within the step for a rotational inertia 0.4 m* R*^2
+    // (no more than the pair's): near rest the torque fades with the rolling instead of
+    // flipping its direction with every round-off of w
+    const double cap = dt > 0 ? kRollingInertia * c.mstar * c.rstar * c.rstar * w / dt : HUGE_VAL;
+    if (w > 0) r.mroll = (-std::min(p.mu_roll * c.rstar * norm(r.fn), cap) / w) * wr;
   }
   return r;
 }

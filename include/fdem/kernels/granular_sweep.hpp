@@ -113,7 +113,8 @@ inline __attribute__((always_inline)) SpherePairOutT<T> SpherePairLaw(const Gran
     const T    rx = wx - wn * nx, ry = wy - wn * ny, rz = wz - wn * nz;
     const T    w = Sqrt(rx * rx + ry * ry + rz * rz);
     const auto turning = w > 0;
-    const T    k = Select(turning, -p.mu_roll * rstar * Sqrt(fn2) / Select(turning, w, one), zero);
+    const T    mr = p.mu_roll * rstar * Sqrt(fn2), cap = (kRollingInertia / dt) * c.mstar * rstar * rstar * w; // GranularForce's bound
+    const T    k  = Select(turning, -Select(cap < mr, cap, mr) / Select(turning, w, one), zero);
     mx = k * rx, my = k * ry, mz = k * rz;
   }
   const T cx = ny * Fz - nz * Fy, cy = nz * Fx - nx * Fz, cz = nx * Fy - ny * Fx; // n x F

@@ -36,10 +36,11 @@ struct SurfaceContact {
 // The contacts of the sphere (centre x, radius r > 0) with the triangles `candidates`
 // (indices into tris, e.g. from a search) of one surface: triangles of node indices
 // into nodes. One contact per touched feature: a point on an edge or a vertex shared by
-// several triangles counts once, and it does not count at all when a triangle that
-// holds that edge or vertex touches the sphere with a point inside its face (the
-// sphere is over that face: the face's contact is the one to feel; likewise a vertex
-// of a touched edge). Where the surface is concave each face touched counts, unless two
+// several triangles counts once, and it counts only if it is the closest point of every
+// touched triangle that holds that edge or vertex (when one of them touches the sphere at
+// a point of its own, inside its face or on another edge or vertex, the sphere is over
+// that part: a face the sphere is over, or a neighbouring triangle of a flat face cut
+// finer, hides the edge). Where the surface is concave each face touched counts, unless two
 // neighbouring features (sharing a node) are touched at points closer than the contact
 // radius sqrt(r overlap) (a nearly flat fold, e.g. of a deformed mesh): their patches
 // overlap, and the deeper one alone counts.
