@@ -447,18 +447,30 @@ Mat3 KeepOrthonormal(const Mat3 &R) {
 
 } // namespace
 
-Vec3 RotateRodrigues(const Vec3 &e, const Vec3 &psi) {
-  // (5.68) rearranged: e' = cos(psi) e + (1 - cos psi)/psi^2 (psi.e) psi + sin(psi)/psi (psi x e)
-  const double ang = norm(psi);
-  return std::cos(ang) * e + (OneMinusCosOverSq(ang) * dot(psi, e)) * psi + Sinc(ang) * cross(psi, e);
-}
+namespace {
+// (5.68) rearranged: e' = cos(psi) e + (1 - cos psi)/psi^2 (psi.e) psi + sin(psi)/psi (psi x e);
+// the three scalar factors depend on psi alone, so a triad rotated by one psi needs them once.
+struct Rodrigues {
+  Vec3   psi;
+  double c, a, s; // cos psi, (1 - cos psi) / psi^2, sin psi / psi
+  explicit Rodrigues(const Vec3 &p) : psi(p) {
+    const double ang = norm(p);
+    c = std::cos(ang), a = OneMinusCosOverSq(ang), s = Sinc(ang);
+  }
+  Vec3 operator()(const Vec3 &e) const { return c * e + (a * dot(psi, e)) * psi + s * cross(psi, e); }
+};
+} // namespace
+
+Vec3 RotateRodrigues(const Vec3 &e, const Vec3 &psi) { return Rodrigues(psi)(e); }
 
 Mat3 RotationMatrix(const Vec3 &psi) {
-  return Mat3::columns(RotateRodrigues({1, 0, 0}, psi), RotateRodrigues({0, 1, 0}, psi), RotateRodrigues({0, 0, 1}, psi));
+  const Rodrigues rot(psi);
+  return Mat3::columns(rot({1, 0, 0}), rot({0, 1, 0}), rot({0, 0, 1}));
 }
 
 Mat3 RotateTriad(const Mat3 &R, const Vec3 &psi) {
-  return Mat3::columns(RotateRodrigues(R.col(0), psi), RotateRodrigues(R.col(1), psi), RotateRodrigues(R.col(2), psi));
+  const Rodrigues rot(psi);
+  return Mat3::columns(rot(R.col(0)), rot(R.col(1)), rot(R.col(2)));
 }
 
 Vec3 SpaceOmega(const Mat3 &R, const Vec3 &I, const Vec3 &H) { return R * DivideBy(transpose(R) * H, I); }
