@@ -147,7 +147,7 @@ void ApplyAuto(Scene &sc, double strain_limit, std::vector<std::string> &report)
   }
   // Walls for grains: when every body that moves is a sphere or a clump (no deformable body, no
   // rigid polyhedron that moves), a fixed rigid box meets spheres only, whose contact sees its
-  // surface alone (doc/spheres.md, "Walls"): one cell per side (12 surface triangles) instead of
+  // surface alone (doc/spheres.md, "Walls for grains"): one cell per side (12 surface triangles) instead of
   // cubes of its smallest side, unless the scene gives its resolution.
   bool grains_only = true;
   for (const Body &b : sc.bodies) grains_only = grains_only && (b.model == "sphere" || (b.model == "rigid" && (b.Granular() || b.fixed)));
