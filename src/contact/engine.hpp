@@ -314,6 +314,7 @@ private:
   std::vector<std::vector<int>> own_sph_, own_c_; // per adapter: its own spheres of sp_ (adapter's numbers) and their compact numbers
   std::vector<int>              ghost_c_;       // the compact numbers of the ghost spheres
   std::vector<double>           sr_;           // per compact sphere: its radius
+  std::vector<int>              sfirst_;       // per holder (numbered first): the first sphere of its clump (its slots' use is marked there)
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
   using SphereNow = fdem::kernels::SphereState; // a compact sphere at an evaluation
   using SphereSum = fdem::kernels::SphereSum;   // the forces on a compact sphere at an evaluation

@@ -162,6 +162,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       };
       std::sort(ss_.begin(), ss_.end());
       for (const auto &p : ss_) number(p[0]);
+      sfirst_.resize(sph_.size()); // the holders are numbered first, and are all own
+      for (size_t c = 0; c < sph_.size(); ++c) sfirst_[c] = first_of(sph_[c]);
       sp_.resize(ss_.size());
       spc_.resize(ss_.size());
       sps_.resize(ss_.size());
@@ -239,7 +241,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     if (!holders_valid_ || !holders_.empty()) // the slots in use, for the sweep of unseen slots below
       for (int j : sweep_.touching) {
         const SpherePair &q = sp_[j];
-        if (q.slot >= 0) seen[first_of(sph_[q.a])] |= (std::uint16_t)(1u << q.slot);
+        if (q.slot >= 0) seen[sfirst_[q.a]] |= (std::uint16_t)(1u << q.slot);
       }
     if (!checked_initial_)
       for (int j : sweep_.touching) { // deep: an overlap of half the smaller radius
@@ -272,11 +274,26 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       const Primitive &S = P(si), &T0 = P(st_[g][1]);
       size_t           e = g;
       while (e < st_.size() && st_[e][0] == si && P(st_[e][1]).kind == T0.kind && P(st_[e][1]).body == T0.body) ++e;
+      const Vec3 xs = X(si)[0];
+      // most candidates of a search are apart at a given evaluation: a group none of whose
+      // tetrahedra reaches into the sphere's box has no surface point nearer than the radius
+      bool near = false;
+      for (size_t j = g; j < e && !near; ++j) {
+        const Tet4 &v = X(st_[j][1]);
+        near          = true;
+        for (int d = 0; d < 3 && near; ++d) {
+          const double lo = std::min({v[0][d], v[1][d], v[2][d], v[3][d]}), hi = std::max({v[0][d], v[1][d], v[2][d], v[3][d]});
+          near            = lo <= xs[d] + S.radius && hi >= xs[d] - S.radius;
+        }
+      }
+      if (!near) {
+        g = e;
+        continue;
+      }
       nodes.clear();
       ids.clear();
       tris.clear();
       src.clear();
-      const Vec3 xs = X(si)[0];
       for (size_t j = g; j < e; ++j) {
         const int        t = st_[j][1];
         const Primitive &T = P(t);

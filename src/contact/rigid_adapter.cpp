@@ -120,6 +120,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   inv_inertia_.clear();
   prim_body_.clear();
   prim_tet_.clear();
+  ball_.clear();
   prims.clear();
   PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
   for (PetscInt b = 0; b < rb_->n; ++b) {
@@ -137,6 +138,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
       prim_tet_.push_back(-1);
+      ball_.push_back({});
       body_.push_back(b);
       sphere_.push_back(1);
       clump_.push_back(0);
@@ -163,6 +165,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
       prim_tet_.push_back((int)k);
+      ball_.push_back(sk.balls[k]);
     }
     for (size_t t = 0; t < sk.tets.size(); ++t) {
       Primitive p;
@@ -179,6 +182,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
       prim_tet_.push_back((int)t);
+      ball_.push_back({});
     }
     body_.push_back(b);
     sphere_.push_back(0);
@@ -226,7 +230,7 @@ PetscErrorCode RigidAdapter::Gather(const std::vector<int> *which, Vertices *x, 
       }
     }
     if (clump_[j]) { // a sphere of a clump: centre; velocity and angular velocity
-      const auto &ball = sk.balls[prim_tet_[i]];
+      const auto &ball = ball_[i];
       const Vec3  r    = R * Vec3(ball[0], ball[1], ball[2]);
       x[i][0]          = xc + r;
       if (v) {
@@ -260,7 +264,7 @@ PetscErrorCode RigidAdapter::SphereStates(int n, const int *which, const int *to
         R    = ToMat3(L.R(q_, b));
         w    = fdem::kernels::BodyOmega(R, Vec3(rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]), ToVec3(L.H(u_, b)));
       }
-      const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
+      const auto &ball = ball_[which[m]];
       const Vec3  r    = R * Vec3(ball[0], ball[1], ball[2]);
       s[to[m]]         = fdem::kernels::SphereState{ToVec3(L.x(q_, b)) + r, ToVec3(L.v(u_, b)) + cross(w, r), w, ball[3]};
       continue;
@@ -283,7 +287,7 @@ PetscErrorCode RigidAdapter::AddSphereForces(int n, const int *which, const int 
     Vec3                            M = g.t;
     if (clump_[j]) { // the force acts at the sphere's centre, x + R p
       if (j != last) last = j, R = ToMat3(L.R(q_, b));
-      const auto &ball = rb_->skins[skin_[j]].balls[prim_tet_[which[m]]];
+      const auto &ball = ball_[which[m]];
       M += cross(R * Vec3(ball[0], ball[1], ball[2]), g.f);
     }
     for (int d = 0; d < 3; ++d) {

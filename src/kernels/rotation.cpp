@@ -304,12 +304,12 @@ Mat3 OuterSum(const Vec3 &A, const Vec3 &a, const Vec3 &B, const Vec3 &b, const 
 Mat3 ExactRotate(const Mat3 &R, const Vec3 &I, const Vec3 &H, double s) {
   const double L = norm(H);
   if (L == 0.0 || s == 0.0) return R;
-  const Vec3 n = H / L;
   const Vec3 Lb0 = transpose(R) * H;
   const Vec3 w0 = DivideBy(Lb0, I);
   TorqueFree sol(I, w0);
   if (sol.kind == TorqueFree::Zero) return R;
   if (sol.kind == TorqueFree::Steady) return RotateTriad(R, s * (R * w0));
+  const Vec3 n = H / L;
   if (sol.kind == TorqueFree::Symmetric) {
     // Closed form: R(t) = Rot(n, L t / I_perp) R0 Rot_body(e_c, beta t),
     // beta = (1/I_c - 1/I_perp) L_c. Then omega = H / I_perp + beta R e_c.
@@ -483,10 +483,13 @@ double RotationalKineticEnergy(const Mat3 &R, const Vec3 &I, const Vec3 &H) {
 }
 
 double OrthonormalityError(const Mat3 &R) {
-  const Mat3 E = transpose(R) * R - Mat3::identity();
+  // R^T R - 1 is symmetric: its six distinct entries, each the dot product of two columns
   double e = 0.0;
-  for (const auto &row : E.m)
-    for (double v : row) e = std::max(e, std::fabs(v));
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) {
+      const double d = R.m[0][a] * R.m[0][b] + R.m[1][a] * R.m[1][b] + R.m[2][a] * R.m[2][b];
+      e              = std::max(e, std::fabs(a == b ? d - 1.0 : d));
+    }
   return e;
 }
 
