@@ -264,11 +264,12 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
 
     // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
     //    triangles as one surface (one contact per touched face, edge or vertex)
-    std::vector<Vec3>                nodes;
-    std::vector<PetscInt>            ids;
-    std::vector<std::array<int, 3>>  tris;
-    std::vector<std::array<int, 4>>  src; // per triangle: its tetrahedron and the three vertices
-    std::vector<int>                 cand;
+    std::vector<Vec3>                          nodes;
+    std::vector<PetscInt>                      ids;
+    std::vector<std::array<int, 3>>            tris;
+    std::vector<std::array<int, 4>>            src; // per triangle: its tetrahedron and the three vertices
+    std::vector<int>                           cand;
+    std::vector<fdem::kernels::SurfaceContact> contacts;
     for (size_t g = 0; g < st_.size();) {
       const int        si = st_[g][0];
       const Primitive &S = P(si), &T0 = P(st_[g][1]);
@@ -317,7 +318,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       }
       cand.resize(tris.size());
       for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
-      const auto contacts = fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand);
+      fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand, contacts);
       for (const auto &ct : contacts) {
         const auto      &s4  = src[ct.tri];
         const int        t   = s4[0];

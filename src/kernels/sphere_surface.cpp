@@ -64,13 +64,22 @@ TriangleClosest ClosestPointOnTriangle(const Vec3 &x, const Vec3 &a, const Vec3 
 }
 
 std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates) {
+  std::vector<SurfaceContact> out;
+  SphereSurfaceContacts(x, r, nodes, tris, candidates, out);
+  return out;
+}
+
+void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out) {
   // Each touch with its feature: a face (its triangle), an edge (its two nodes, sorted) or a vertex (its node).
   struct Touch {
     SurfaceContact c;
     int            kind; // 0 face, 1 edge, 2 vertex
     int            na, nb; // the feature's nodes (nb = -1 for a vertex; both -1 for a face)
   };
-  std::vector<Touch> touches;
+  thread_local std::vector<Touch> touches, kept; // scratch kept from call to call (no allocation per sphere)
+  touches.clear();
+  kept.clear();
+  out.clear();
   for (int t : candidates) {
     const auto           &T = tris[t];
     const TriangleClosest q = ClosestPointOnTriangle(x, nodes[T[0]], nodes[T[1]], nodes[T[2]]);
@@ -108,7 +117,6 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
         if (na[x] == nb[y]) return true;
     return false;
   };
-  std::vector<Touch> kept;
   for (std::size_t i = 0; i < touches.size(); ++i) {
     const Touch &h    = touches[i];
     bool         keep = true;
@@ -126,7 +134,6 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
   }
   // two neighbouring features of a nearly flat fold touched at nearly one point: their contact
   // patches overlap, one contact (the deeper; of equal ones the first)
-  std::vector<SurfaceContact> out;
   for (std::size_t i = 0; i < kept.size(); ++i) {
     const Touch &h    = kept[i];
     bool         keep = true;
@@ -136,7 +143,6 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
     }
     if (keep) out.push_back(h.c);
   }
-  return out;
 }
 
 } // namespace fdem::kernels

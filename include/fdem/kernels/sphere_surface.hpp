@@ -46,5 +46,7 @@ struct SurfaceContact {
 // overlap, and the deeper one alone counts.
 // Deterministic: contacts in the order of the candidates.
 std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates);
+// The same into out (cleared first), for a caller that keeps the vector from call to call.
+void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out);
 
 } // namespace fdem::kernels
