@@ -276,20 +276,12 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       size_t           e = g;
       while (e < st_.size() && st_[e][0] == si && P(st_[e][1]).kind == T0.kind && P(st_[e][1]).body == T0.body) ++e;
       const Vec3 xs = X(si)[0];
-      // most candidates of a search are apart at a given evaluation: a group none of whose
-      // tetrahedra reaches into the sphere's box has no surface point nearer than the radius
-      bool near = false;
-      for (size_t j = g; j < e && !near; ++j) {
-        const Tet4 &v = X(st_[j][1]);
-        near          = true;
-        for (int d = 0; d < 3 && near; ++d) {
-          const double lo = std::min({v[0][d], v[1][d], v[2][d], v[3][d]}), hi = std::max({v[0][d], v[1][d], v[2][d], v[3][d]});
-          near            = lo <= xs[d] + S.radius && hi >= xs[d] - S.radius;
-        }
-      }
-      if (!near) {
-        g = e;
-        continue;
+      // the sphere's box, padded far beyond round-off: a face whose box it misses has no point
+      // nearer than the radius, and SphereSurfaceContacts looks only at faces touched
+      double box[6];
+      for (int d = 0; d < 3; ++d) {
+        const double pad = S.radius + 1e-9 * (S.radius + std::fabs(xs[d]));
+        box[d] = xs[d] - pad, box[3 + d] = xs[d] + pad;
       }
       nodes.clear();
       ids.clear();
@@ -298,8 +290,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       for (size_t j = g; j < e; ++j) {
         const int        t = st_[j][1];
         const Primitive &T = P(t);
+        const Tet4      &v = X(t);
         for (int o = 0; o < 4; ++o) {
           if (!(T.surface >> o & 1)) continue;
+          const Vec3 &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
+          bool        meets = true;
+          for (int d = 0; d < 3 && meets; ++d) meets = std::max({a[d], b[d], c[d]}) >= box[d] && std::min({a[d], b[d], c[d]}) <= box[3 + d];
+          if (!meets) continue;
           std::array<int, 3> tri, vq;
           for (int m = 0; m < 3; ++m) {
             const int      q  = (o + 1 + m) % 4;
@@ -307,7 +304,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
             int            li = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
             if (li == (int)ids.size()) {
               ids.push_back(id);
-              nodes.push_back(X(t)[q]);
+              nodes.push_back(v[q]);
             }
             tri[m] = li;
             vq[m]  = q;
@@ -315,6 +312,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
           tris.push_back(tri);
           src.push_back({t, vq[0], vq[1], vq[2]});
         }
+      }
+      if (tris.empty()) { // most candidates of a search are apart at a given evaluation
+        g = e;
+        continue;
       }
       cand.resize(tris.size());
       for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
