@@ -316,6 +316,11 @@ private:
   std::vector<double>           sr_;           // per compact sphere: its radius
   std::vector<int>              sfirst_;       // per holder (numbered first): the first sphere of its clump (its slots' use is marked there)
   bool                          sp_fresh_ = false; // ss_ changed: make sp_ again
+  struct SurfaceGroup {
+    int sphere, begin, end; // a sphere of st_ and its near faces sface_[begin, end) of one body
+  };
+  std::vector<SurfaceGroup>       sgroup_; // made with sp_: the groups of st_ with a face the sphere may reach before the next search
+  std::vector<std::array<int, 2>> sface_;  // per group, its faces {tetrahedron, face opposite vertex o}, in st_'s order
   using SphereNow = fdem::kernels::SphereState; // a compact sphere at an evaluation
   using SphereSum = fdem::kernels::SphereSum;   // the forces on a compact sphere at an evaluation
   std::vector<SphereNow>        snow_;

@@ -201,6 +201,37 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
           own_sph_[k].push_back(sph_[c] - first_[k]);
           own_c_[k].push_back(c);
         } else ghost_c_.push_back(c);
+      // the sphere-surface groups (st_ is grouped by sphere, then by body) and the surface faces
+      // of each that the sphere may reach before the next search: a face whose box is farther
+      // from the sphere's centre than its radius and the two margins (padded far beyond
+      // round-off) along an axis stays out of reach until then
+      sgroup_.clear();
+      sface_.clear();
+      for (size_t g = 0; g < st_.size();) {
+        const int        si = st_[g][0];
+        const Primitive &S = P(si), &T0 = P(st_[g][1]);
+        size_t           e = g;
+        while (e < st_.size() && st_[e][0] == si && P(st_[e][1]).kind == T0.kind && P(st_[e][1]).body == T0.body) ++e;
+        const Vec3 xs = X(si)[0];
+        const int  begin = (int)sface_.size();
+        for (size_t j = g; j < e; ++j) {
+          const int        t = st_[j][1];
+          const Primitive &T = P(t);
+          const Tet4      &v = X(t);
+          for (int o = 0; o < 4; ++o) {
+            if (!(T.surface >> o & 1)) continue;
+            const Vec3 &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
+            bool        near = true;
+            for (int d = 0; d < 3 && near; ++d) {
+              const double reach = S.radius + S.margin + T.margin, pad = reach + 1e-9 * (reach + std::fabs(xs[d]));
+              near               = std::max({a[d], b[d], c[d]}) >= xs[d] - pad && std::min({a[d], b[d], c[d]}) <= xs[d] + pad;
+            }
+            if (near) sface_.push_back({t, o});
+          }
+        }
+        if ((int)sface_.size() > begin) sgroup_.push_back({si, begin, (int)sface_.size()});
+        g = e;
+      }
       sp_fresh_ = false;
     }
     const int ns = (int)sph_.size();
@@ -270,12 +301,10 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
     std::vector<std::array<int, 4>>            src; // per triangle: its tetrahedron and the three vertices
     std::vector<int>                           cand;
     std::vector<fdem::kernels::SurfaceContact> contacts;
-    for (size_t g = 0; g < st_.size();) {
-      const int        si = st_[g][0];
-      const Primitive &S = P(si), &T0 = P(st_[g][1]);
-      size_t           e = g;
-      while (e < st_.size() && st_[e][0] == si && P(st_[e][1]).kind == T0.kind && P(st_[e][1]).body == T0.body) ++e;
-      const Vec3 xs = X(si)[0];
+    for (const SurfaceGroup &grp : sgroup_) {
+      const int        si = grp.sphere;
+      const Primitive &S  = P(si);
+      const Vec3       xs = X(si)[0];
       // the sphere's box, padded far beyond round-off: a face whose box it misses has no point
       // nearer than the radius, and SphereSurfaceContacts looks only at faces touched
       double box[6];
@@ -287,36 +316,30 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       ids.clear();
       tris.clear();
       src.clear();
-      for (size_t j = g; j < e; ++j) {
-        const int        t = st_[j][1];
+      for (int f = grp.begin; f < grp.end; ++f) {
+        const int        t = sface_[f][0], o = sface_[f][1];
         const Primitive &T = P(t);
         const Tet4      &v = X(t);
-        for (int o = 0; o < 4; ++o) {
-          if (!(T.surface >> o & 1)) continue;
-          const Vec3 &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
-          bool        meets = true;
-          for (int d = 0; d < 3 && meets; ++d) meets = std::max({a[d], b[d], c[d]}) >= box[d] && std::min({a[d], b[d], c[d]}) <= box[3 + d];
-          if (!meets) continue;
-          std::array<int, 3> tri, vq;
-          for (int m = 0; m < 3; ++m) {
-            const int      q  = (o + 1 + m) % 4;
-            const PetscInt id = T.node[q] >= 0 ? T.node[q] : -1 - (PetscInt)(4 * t + q);
-            int            li = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
-            if (li == (int)ids.size()) {
-              ids.push_back(id);
-              nodes.push_back(v[q]);
-            }
-            tri[m] = li;
-            vq[m]  = q;
+        const Vec3      &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
+        bool             meets = true;
+        for (int d = 0; d < 3 && meets; ++d) meets = std::max({a[d], b[d], c[d]}) >= box[d] && std::min({a[d], b[d], c[d]}) <= box[3 + d];
+        if (!meets) continue;
+        std::array<int, 3> tri, vq;
+        for (int m = 0; m < 3; ++m) {
+          const int      q  = (o + 1 + m) % 4;
+          const PetscInt id = T.node[q] >= 0 ? T.node[q] : -1 - (PetscInt)(4 * t + q);
+          int            li = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
+          if (li == (int)ids.size()) {
+            ids.push_back(id);
+            nodes.push_back(v[q]);
           }
-          tris.push_back(tri);
-          src.push_back({t, vq[0], vq[1], vq[2]});
+          tri[m] = li;
+          vq[m]  = q;
         }
+        tris.push_back(tri);
+        src.push_back({t, vq[0], vq[1], vq[2]});
       }
-      if (tris.empty()) { // most candidates of a search are apart at a given evaluation
-        g = e;
-        continue;
-      }
+      if (tris.empty()) continue; // most candidates of a search are apart at a given evaluation
       cand.resize(tris.size());
       for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
       fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand, contacts);
@@ -380,7 +403,6 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         sums[1] += 1;
         first(ct.overlap / (0.5 * S.radius), si, t);
       }
-      g = e;
     }
     // free this engine's slots that no contact saw. A sphere-sphere pair frees its own slot when
     // it opens; what else may leave a slot behind is a pair that is no longer a candidate (after
