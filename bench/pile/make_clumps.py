@@ -19,6 +19,7 @@ p.add_argument("side", type=int)
 p.add_argument("layers", type=int)
 p.add_argument("out")
 p.add_argument("--end", type=float, default=2.04)
+p.add_argument("--dt", type=float, default=1.7e-4, help="time step (s); the race's is 1.7e-4, LAMMPS's rule of thumb")
 a = p.parse_args()
 s = 0.16
 L = a.side * s
@@ -29,7 +30,7 @@ lines = [
     f"# {(a.side - 1) ** 2 * a.layers} clumps of 4 spheres in a box (bench/pile/make_clumps.py {a.side} {a.layers})",
     "title: clump race",
     "gravity: [0, 0, -9.81]",
-    f"time: {{end: {a.end!r}, dt: 1.7e-4, scheme: cd}}",
+    f"time: {{end: {a.end!r}, dt: {a.dt!r}, scheme: cd}}",
     "materials:",
     "  grain: {density: 2600, contact_law: hooke, kn: 2.0e5, gamma_n: 50, friction: 0.6}",
     "bodies:",
