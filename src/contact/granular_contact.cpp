@@ -160,7 +160,20 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         }
         return comp[i];
       };
-      std::sort(ss_.begin(), ss_.end());
+      if (std::any_of(ss_.begin(), ss_.end(), [&](const std::array<int, 2> &p) { return p[0] < 0 || p[0] >= nl_; })) std::sort(ss_.begin(), ss_.end());
+      else { // sorted by holder, then by the other sphere: a counting sort by holder (own: the
+             // owner of the holder computes the pair), then each holder's few pairs in order
+        std::vector<int> start(nl_ + 1, 0);
+        for (const auto &p : ss_) ++start[p[0] + 1];
+        for (int i = 0; i < nl_; ++i) start[i + 1] += start[i];
+        std::vector<std::array<int, 2>> by(ss_.size());
+        for (const auto &p : ss_) by[start[p[0]]++] = p;
+        for (size_t b = 0, e; b < by.size(); b = e) {
+          for (e = b + 1; e < by.size() && by[e][0] == by[b][0]; ++e) {}
+          std::sort(by.begin() + (std::ptrdiff_t)b, by.begin() + (std::ptrdiff_t)e);
+        }
+        ss_.swap(by);
+      }
       for (const auto &p : ss_) number(p[0]);
       sfirst_.resize(sph_.size()); // the holders are numbered first, and are all own
       for (size_t c = 0; c < sph_.size(); ++c) sfirst_[c] = first_of(sph_[c]);
