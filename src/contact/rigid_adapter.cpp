@@ -188,7 +188,12 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
     sphere_.push_back(0);
     clump_.push_back(sk.balls.empty() ? 0 : 1);
     skin_.push_back(f.skin[b]);
-    radius_.push_back(f.radius[b]);
+    if (sk.balls.empty()) radius_.push_back(f.radius[b]);
+    else { // a clump sphere's box moves with its centre only: the lever of Move is the farthest centre
+      PetscReal far = 0;
+      for (const auto &ball : sk.balls) far = std::max(far, std::sqrt(ball[0] * ball[0] + ball[1] * ball[1] + ball[2] * ball[2]));
+      radius_.push_back(far);
+    }
     inv_inertia_.push_back(0); // not used
   }
   PetscCall(fdem::model::RigidRestoreFields(rb_->sw, f));

@@ -53,7 +53,7 @@ private:
   const PetscScalar    *q_ = nullptr, *u_ = nullptr;
   PetscScalar          *fm_ = nullptr;
   std::vector<PetscInt>  body_, skin_;  // per listed body (with a skin): local index, skin
-  std::vector<PetscReal> radius_;       // per listed body: bounding radius
+  std::vector<PetscReal> radius_;       // per listed body: a sphere's radius, a clump's farthest sphere centre, else the bounding radius (the lever of Move)
   std::vector<PetscReal> refx_, refR_;  // per listed body: x (3) and R (9) at the last search
   std::vector<PetscReal> inv_inertia_;  // per listed body: a sphere's 1 / I (0 for other bodies)
   std::vector<PetscReal> margin_;       // per listed body: its search margin (Margins)
