@@ -189,7 +189,7 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsReal("-fdem_contact_damping", "Normal contact damping (Pa s/m)", "FDEMContactSetDissipation", damp, &damp, nullptr));
   PetscCall(PetscOptionsReal("-fdem_contact_friction", "Coulomb friction coefficient", "FDEMContactSetDissipation", mu, &mu, nullptr));
   PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
-  PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
+  PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md; 0: a search at every evaluation); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel; a pair's damping and friction then see the surface faces only)", "", so, &so, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_initial_overlap_check", "Stop at the first evaluation when two bodies start interpenetrating deeply (a set-up error); false: a warning (the fdem driver's default when it restarts from a checkpoint, whose overlaps the run made)", "", ic, &ic, nullptr));
