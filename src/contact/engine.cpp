@@ -516,6 +516,7 @@ PetscErrorCode Engine::Search() {
         const double gap = A.margin + B.margin;
         const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
         if (spheres == 2) {
+          if (A.kind == B.kind && A.body == B.body) continue; // the spheres of one clump (a sphere is one primitive): never a pair
           if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
         } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
           const int     s = A.shape == kSphere ? a : b;
