@@ -512,11 +512,15 @@ PetscErrorCode Engine::Search() {
         int              a = pr.first, b = pr.second;
         const Primitive &A = P(a), &B = P(b);
         if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
+        const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
+        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)
+          const Adapter *ad = adapters_[A.kind];
+          if (spheres || !((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
+          if (!ad->SelfPair(A, B)) continue;
+        }
         // apart for as long as neither moves more than its margin: not a candidate
         const double gap = A.margin + B.margin;
-        const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
         if (spheres == 2) {
-          if (A.kind == B.kind && A.body == B.body) continue; // the spheres of one clump (a sphere is one primitive): never a pair
           if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
         } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
           const int     s = A.shape == kSphere ? a : b;
@@ -525,11 +529,6 @@ PetscErrorCode Engine::Search() {
           for (int k = 0; k < 4 && !out; ++k) out = pl[4 * k] * X(s)[0][0] + pl[4 * k + 1] * X(s)[0][1] + pl[4 * k + 2] * X(s)[0][2] - pl[4 * k + 3] > P(s).radius + gap;
           if (out) continue;
         } else if (BeyondAFace(plane(a), X(b), gap) || BeyondAFace(plane(b), X(a), gap)) continue;
-        if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)
-          const Adapter *ad = adapters_[A.kind];
-          if (spheres || !((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
-          if (!ad->SelfPair(A, B)) continue;
-        }
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it

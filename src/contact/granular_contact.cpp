@@ -39,6 +39,17 @@ const GranularPair &ForContact(const GranularPair &p, double mstar, GranularPair
   return tmp;
 }
 
+// Whether the box of tetrahedron v's face opposite vertex o comes within reach of x along every
+// axis, the reach padded far beyond round-off: a face that does not has no point nearer than reach.
+bool FaceWithin(const Tet4 &v, int o, const Vec3 &x, double reach) {
+  const Vec3 &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
+  for (int d = 0; d < 3; ++d) {
+    const double pad = reach + 1e-9 * (reach + std::fabs(x[d]));
+    if (std::max({a[d], b[d], c[d]}) < x[d] - pad || std::min({a[d], b[d], c[d]}) > x[d] + pad) return false;
+  }
+  return true;
+}
+
 // Barycentric weights of p (a point of the triangle a, b, c); equal thirds for a degenerate triangle.
 void Weights(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double w[3]) {
   const Vec3   e0 = b - a, e1 = c - a, e2 = p - a;
@@ -160,11 +171,13 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         }
         return comp[i];
       };
-      if (std::any_of(ss_.begin(), ss_.end(), [&](const std::array<int, 2> &p) { return p[0] < 0 || p[0] >= nl_; })) std::sort(ss_.begin(), ss_.end());
-      else { // sorted by holder, then by the other sphere: a counting sort by holder (own: the
-             // owner of the holder computes the pair), then each holder's few pairs in order
+      { // sorted by holder, then by the other sphere: a counting sort by holder (own: the owner
+        // of the holder computes the pair), then each holder's few pairs in order
         std::vector<int> start(nl_ + 1, 0);
-        for (const auto &p : ss_) ++start[p[0] + 1];
+        for (const auto &p : ss_) {
+          if (p[0] < 0 || p[0] >= nl_) throw std::logic_error("contact: a sphere pair whose holder is not on this rank");
+          ++start[p[0] + 1];
+        }
         for (int i = 0; i < nl_; ++i) start[i + 1] += start[i];
         std::vector<std::array<int, 2>> by(ss_.size());
         for (const auto &p : ss_) by[start[p[0]]++] = p;
@@ -231,16 +244,8 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
           const int        t = st_[j][1];
           const Primitive &T = P(t);
           const Tet4      &v = X(t);
-          for (int o = 0; o < 4; ++o) {
-            if (!(T.surface >> o & 1)) continue;
-            const Vec3 &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
-            bool        near = true;
-            for (int d = 0; d < 3 && near; ++d) {
-              const double reach = S.radius + S.margin + T.margin, pad = reach + 1e-9 * (reach + std::fabs(xs[d]));
-              near               = std::max({a[d], b[d], c[d]}) >= xs[d] - pad && std::min({a[d], b[d], c[d]}) <= xs[d] + pad;
-            }
-            if (near) sface_.push_back({t, o});
-          }
+          for (int o = 0; o < 4; ++o)
+            if ((T.surface >> o & 1) && FaceWithin(v, o, xs, S.radius + S.margin + T.margin)) sface_.push_back({t, o});
         }
         if ((int)sface_.size() > begin) sgroup_.push_back({si, begin, (int)sface_.size()});
         g = e;
@@ -318,13 +323,6 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       const int        si = grp.sphere;
       const Primitive &S  = P(si);
       const Vec3       xs = X(si)[0];
-      // the sphere's box, padded far beyond round-off: a face whose box it misses has no point
-      // nearer than the radius, and SphereSurfaceContacts looks only at faces touched
-      double box[6];
-      for (int d = 0; d < 3; ++d) {
-        const double pad = S.radius + 1e-9 * (S.radius + std::fabs(xs[d]));
-        box[d] = xs[d] - pad, box[3 + d] = xs[d] + pad;
-      }
       nodes.clear();
       ids.clear();
       tris.clear();
@@ -333,10 +331,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
         const int        t = sface_[f][0], o = sface_[f][1];
         const Primitive &T = P(t);
         const Tet4      &v = X(t);
-        const Vec3      &a = v[(o + 1) % 4], &b = v[(o + 2) % 4], &c = v[(o + 3) % 4];
-        bool             meets = true;
-        for (int d = 0; d < 3 && meets; ++d) meets = std::max({a[d], b[d], c[d]}) >= box[d] && std::min({a[d], b[d], c[d]}) <= box[3 + d];
-        if (!meets) continue;
+        if (!FaceWithin(v, o, xs, S.radius)) continue; // SphereSurfaceContacts looks only at faces touched
         std::array<int, 3> tri, vq;
         for (int m = 0; m < 3; ++m) {
           const int      q  = (o + 1 + m) % 4;

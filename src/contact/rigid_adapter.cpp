@@ -164,7 +164,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
       p.inertia = std::min({rb_->inertia[3 * b], rb_->inertia[3 * b + 1], rb_->inertia[3 * b + 2]});
       prims.push_back(p);
       prim_body_.push_back((int)body_.size());
-      prim_tet_.push_back((int)k);
+      prim_tet_.push_back(-1);
       ball_.push_back(sk.balls[k]);
     }
     for (size_t t = 0; t < sk.tets.size(); ++t) {

@@ -59,12 +59,12 @@ private:
   std::vector<PetscReal> margin_;       // per listed body: its search margin (Margins)
   PetscReal              Move(size_t j) const;
   std::vector<int>       prim_body_;    // per primitive: its listed body
-  std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron (a clump's: its sphere)
+  std::vector<int>       prim_tet_;     // per primitive: its skin tetrahedron (-1 for a sphere; a clump's: ball_)
   std::vector<std::array<PetscReal, 4>> ball_; // per primitive: a clump's sphere (centre in the body frame, radius), read
                                                // at every evaluation without going through the body's skin
   std::vector<Vec3>      world_;        // scratch: a body's skin nodes in the world
   std::vector<char>      sphere_;       // per listed body: a sphere
-  std::vector<char>      clump_;        // per listed body: a clump (its primitives are spheres, prim_tet_ their index)
+  std::vector<char>      clump_;        // per listed body: a clump (its primitives are spheres, ball_ theirs)
   std::vector<SkinFaces> surface_; // per skin: each tetrahedron's surface faces and their flat faces
   char                  *hist_ = nullptr; // the swarm's "history" field between HistoryBegin and HistoryEnd
 };
