@@ -8,6 +8,7 @@
 #include <petscts.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -181,41 +182,59 @@ PetscErrorCode WriteBodies(Sim &s, const std::string &file) {
   PetscFunctionReturn(0);
 }
 
-// The fragments of the deformable bodies (FDEMDeformableGetFragments; a body without a crack
-// through it is one): with fracturable bodies prints their number; when file is not empty,
-// writes one row per fragment. Collective.
+// The fragments of the deformable bodies (FDEMDeformableGetLocalFragments; a body without a
+// crack through it is one): with fracturable bodies prints their number; when file is not
+// empty, writes one row per fragment, ordered by body and id, from rank 0, which gathers the
+// ranks' shares for that. Collective.
 PetscErrorCode WriteFragments(Sim &s, const std::string &file) {
   PetscInt      n;
   FDEMFragment *f;
-  PetscMPIInt   rank;
+  PetscMPIInt   rank, size;
   FILE         *fp  = nullptr;
   int           err = 0;
   PetscFunctionBeginUser;
   if (!s.dfm || (s.njoints == 0 && file.empty())) PetscFunctionReturn(0);
   if (s.U) PetscCall(SimRestore(s));
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
-  PetscCall(FDEMDeformableGetFragments(s.dfm, nullptr, &n, &f));
-  if (s.njoints > 0) PetscCall(PetscPrintf(s.comm, "fragments: %" PetscInt_FMT " (connected pieces of the deformable bodies over their unbroken joints)%s%s\n", n, file.empty() ? "" : "; ", file.c_str()));
+  PetscCallMPI(MPI_Comm_size(s.comm, &size));
+  PetscCall(FDEMDeformableGetLocalFragments(s.dfm, nullptr, &n, &f));
+  // rank 0 gathers the shares (as bytes: the struct is PetscInt and PetscReal only)
+  std::vector<FDEMFragment> all;
+  std::vector<PetscMPIInt>  cnt(size), off(size + 1, 0);
+  const PetscMPIInt         bytes = (PetscMPIInt)(n * sizeof(FDEMFragment));
+  PetscCallMPI(MPI_Gather(&bytes, 1, MPI_INT, cnt.data(), 1, MPI_INT, 0, s.comm));
+  long long sum = 0;
+  for (PetscMPIInt r = 0; r < size; ++r) sum += cnt[r];
+  if (rank == 0 && sum > INT_MAX) err = 1;
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
+  if (err) PetscCall(PetscFree(f));
+  PetscCheck(!err, s.comm, PETSC_ERR_SUP, "%s: too many fragments to write from one rank", file.c_str());
+  for (PetscMPIInt r = 0; r < size; ++r) off[r + 1] = off[r] + cnt[r];
+  if (rank == 0) all.resize(off[size] / sizeof(FDEMFragment));
+  PetscCallMPI(MPI_Gatherv(f, bytes, MPI_BYTE, all.data(), cnt.data(), off.data(), MPI_BYTE, 0, s.comm));
+  PetscCall(PetscFree(f));
+  std::sort(all.begin(), all.end(), [](const FDEMFragment &a, const FDEMFragment &b) { return a.body != b.body ? a.body < b.body : a.id < b.id; });
+  PetscInt total = 0;
+  PetscCallMPI(MPI_Allreduce(&n, &total, 1, MPIU_INT, MPI_SUM, s.comm));
+  if (s.njoints > 0) PetscCall(PetscPrintf(s.comm, "fragments: %" PetscInt_FMT " (connected pieces of the deformable bodies over their unbroken joints)%s%s\n", total, file.empty() ? "" : "; ", file.c_str()));
   if (!file.empty() && rank == 0) {
     fp  = std::fopen(file.c_str(), "w");
     err = fp ? 0 : 1;
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
-  if (err) PetscCall(PetscFree(f));
   PetscCheck(!err, s.comm, PETSC_ERR_FILE_OPEN, "cannot write %s", file.c_str());
   if (fp) {
-    std::fprintf(fp, "fragment,body,mass,x,y,z,vx,vy,vz\n");
-    for (PetscInt i = 0; i < n; ++i) {
+    std::fprintf(fp, "fragment,body,mass,x,y,z,vx,vy,vz,first_element,elements\n");
+    for (std::size_t i = 0; i < all.size(); ++i) {
       const char *name;
-      PetscCall(FDEMDeformableGetBodyName(s.dfm, f[i].body, nullptr, &name));
-      std::fprintf(fp, "%" PetscInt_FMT ",%s,%.17g", i, name, (double)f[i].mass);
-      for (const PetscReal *v : {f[i].x, f[i].v})
+      PetscCall(FDEMDeformableGetBodyName(s.dfm, all[i].body, nullptr, &name));
+      std::fprintf(fp, "%zu,%s,%.17g", i, name, (double)all[i].mass);
+      for (const PetscReal *v : {all[i].x, all[i].v})
         for (int k = 0; k < 3; ++k) std::fprintf(fp, ",%.17g", (double)v[k]);
-      std::fprintf(fp, "\n");
+      std::fprintf(fp, ",%" PetscInt_FMT ",%" PetscInt_FMT "\n", all[i].id, all[i].cells);
     }
     err = std::fclose(fp) != 0;
   }
-  PetscCall(PetscFree(f));
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, s.comm));
   PetscCheck(!err, s.comm, PETSC_ERR_FILE_WRITE, "error writing %s", file.c_str());
   PetscFunctionReturn(0);

@@ -4,9 +4,10 @@
 // fracturable box of n^3 cubes (6 n^3 tetrahedra, about 1.9 joints each), with no joint
 // broken, every third joint broken (by joint id) and every joint broken. The joint states
 // are loaded like a checkpoint's (FDEMDeformableLoadJointState). Prints, per case, the
-// fragments, a checksum of the answer per cell (fragment, free faces, node keys; the same on any
-// number of ranks) and the wall time of the call, slowest rank, best of the repeats, with the
-// fragments numbered (FDEMDeformableGetFragments) and without (the contact's call).
+// fragments, a checksum of the answer per cell (fragment id, free faces, node keys; the same on
+// any number of ranks) and the wall time, slowest rank, best of the repeats, of the topology
+// (the contact's call), of FDEMDeformableGetLocalFragments (each rank its share, with their
+// mass and momentum) and of FDEMDeformableGetFragments (every fragment on every rank).
 // Options: -n 26 (about 1e5 tetrahedra) -repeats 3; mpiexec -n 2 for two ranks.
 #include "../../src/model/deformable_impl.hpp"
 
@@ -57,23 +58,27 @@ int main(int argc, char **argv) {
   const char *const name[3]  = {"none broken", "every 3rd broken", "all broken"};
   for (int c = 0; c < 3; ++c) {
     PetscCall(LoadJointDamage(d, joints, every[c], "bench_topology_state.h5"));
-    double             best[2] = {1e300, 1e300};
+    double             best[3] = {1e300, 1e300, 1e300};
     PetscInt           nf      = 0;
     unsigned long long sum     = 0;
     for (PetscInt r = 0; r < repeats; ++r)
-      for (int number = 1; number >= 0; --number) { // as FDEMDeformableGetFragments, then as the contact
+      for (int k = 0; k < 3; ++k) { // the contact's call, each rank's share of the fragments, all of them on every rank
         fdem::model::FractureTopology t;
+        FDEMFragment                 *f = nullptr;
+        PetscInt                      n;
         PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
         const double t0 = MPI_Wtime();
-        PetscCall(fdem::model::DeformableFractureTopology(d, t, number));
+        if (k == 0) PetscCall(fdem::model::DeformableFractureTopology(d, t));
+        else if (k == 1) PetscCall(FDEMDeformableGetLocalFragments(d, nullptr, &n, &f));
+        else PetscCall(FDEMDeformableGetFragments(d, nullptr, &n, &f));
         double dt = MPI_Wtime() - t0, slow;
         PetscCallMPI(MPI_Allreduce(&dt, &slow, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD));
-        best[number] = std::min(best[number], slow);
-        if (!number) continue;
-        nf = t.nfragments;
-        PetscCall(Checksum(d, t, &sum));
+        best[k] = std::min(best[k], slow);
+        PetscCall(PetscFree(f));
+        if (k == 0) PetscCall(Checksum(d, t, &sum));
+        if (k == 2) nf = n;
       }
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%-18s fragments %8" PetscInt_FMT "  checksum %016llx  topology %.4f s (without the fragments' numbering, as the contact calls it: %.4f s)\n", name[c], nf, sum, best[1], best[0]));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%-18s fragments %8" PetscInt_FMT "  checksum %016llx  topology (the contact's call) %.4f s, each rank's fragments %.4f s, every fragment on every rank %.4f s\n", name[c], nf, sum, best[0], best[1], best[2]));
   }
   PetscCall(FDEMDeformableDestroy(&d));
   PetscCall(PetscFinalize());

@@ -124,19 +124,26 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable dfm, Pet
 PETSC_EXTERN PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable dfm, PetscViewer viewer);
 /* Fragments: the connected components of the tetrahedra of each body, two tetrahedra being
    connected when they share a node or are held by a joint that is not broken (an unsplit
-   body, or a fracturable one with no crack through it, is one fragment). Collective, at the
-   state U (NULL: the stored state). *count gets the number of fragments; *fragments (may be
-   NULL) gets an array of them, allocated with PetscMalloc1 (free it with PetscFree), ordered
-   by body and then by the smallest element id in the fragment, which is the same on any
-   number of ranks. */
+   body, or a fracturable one with no crack through it, is one fragment). A fragment's id is
+   the smallest element id in it, the same on any number of ranks (and kept by the piece that
+   holds that element when the fragment breaks further). Collective, at the state U (NULL:
+   the stored state). *count gets the number of fragments; *fragments (may be NULL) gets an
+   array of them, allocated with PetscMalloc1 (free it with PetscFree; NULL when there are
+   none), ordered by body and then by id.
+   GetLocalFragments gives each rank its share: the fragments whose id modulo the number of
+   ranks is the rank, so that every fragment is on exactly one rank and no rank holds
+   anything per fragment of the whole mesh. GetFragments gives every rank all of them (it
+   gathers the shares: memory per rank grows with the fragments of the whole mesh). */
 typedef struct {
   PetscInt  body;  /* the body the fragment belongs to (FDEMDeformableGetBodyName) */
+  PetscInt  id;    /* the smallest element id in it (FDEMDeformableGetLocalCells' ids) */
   PetscInt  cells; /* its tetrahedra */
   PetscReal mass;  /* the sum of its tetrahedra's masses rho V */
   PetscReal x[3];  /* its centre of mass */
   PetscReal v[3];  /* the velocity of its centre of mass (momentum / mass) */
 } FDEMFragment;
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable dfm, Vec U, PetscInt *count, FDEMFragment *fragments[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetLocalFragments(FDEMDeformable dfm, Vec U, PetscInt *count, FDEMFragment *fragments[]);
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetGravity(FDEMDeformable dfm, const PetscReal g[3]);
 /* Force terms chain: each added function adds its nodal forces to floc at every force
    evaluation, in the order added (a user's load, contact, ...); none replaces another.

@@ -40,7 +40,7 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
     PetscOptionsEnd();
     m->damaged_cells_ = dc;
     fdem::model::FractureTopology t;
-    PetscCall(fdem::model::DeformableFractureTopology(d, t, false));
+    PetscCall(fdem::model::DeformableFractureTopology(d, t));
     m->fracturable_ = t.fracturable;
     m->nbroken_     = t.nbroken;
     m->ndamaged_    = t.ndamaged;
@@ -127,7 +127,7 @@ PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
   PetscCall(fdem::model::DeformableJointCounts(d_, &n, &nd)); // the same on every rank
   if (n == nbroken_ && (nd == ndamaged_ || !damaged_cells_)) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
-  PetscCall(fdem::model::DeformableFractureTopology(d_, t, false));
+  PetscCall(fdem::model::DeformableFractureTopology(d_, t));
   nbroken_  = t.nbroken;
   ndamaged_ = t.ndamaged;
   broken_  = t.broken_pairs;

@@ -17,21 +17,22 @@
 // classes that receive the same label (they touch the same class elsewhere). When a round
 // changes no label on any rank (one MPI_Allreduce), every class has the smallest id in it;
 // the smallest label travels at least one hop between the ranks' pieces per round, so the
-// rounds are at most one more than the number of those pieces, which bounds the loop. For
-// FDEMDeformableGetFragments, whose answer is every fragment on every rank, the fragments are
-// then numbered by body and smallest cell id, the same order on any number of ranks, from the
-// (body, id) pairs of all fragments (one MPI_Allgatherv); the contact, which needs only the
-// free faces, node keys and broken pairs, skips that. Cost of a call: a pass over the rank's
-// cells, nodes and joints, two exchanges over the joint SF, the rendezvous, then per round two
-// exchanges over the straddling joints, two over the shared nodes and one MPI_Allreduce, each
-// the size of the rank boundaries. Memory per rank: its cells, nodes and joints and the classes
-// at its rank boundaries (and, when numbering, two integers per fragment of the whole mesh).
+// rounds are at most one more than the number of those pieces, which bounds the loop. A
+// fragment's id is its class's label, the smallest cell id in it, the same on any number of
+// ranks. FDEMDeformableGetLocalFragments sums each fragment's mass, momentum and cells where
+// its cells are and meets the sums at the rank id % size (a rendezvous), so each rank holds
+// its share; FDEMDeformableGetFragments gathers the shares on every rank. Cost of the
+// topology: a pass over the rank's cells, nodes and joints, two exchanges over the joint SF,
+// the rendezvous, then per round two exchanges over the straddling joints, two over the
+// shared nodes and one MPI_Allreduce, each the size of the rank boundaries. Memory per rank:
+// its cells, nodes and joints and the classes at its rank boundaries.
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
 #include <petscsf.h>
 
 #include <algorithm>
+#include <climits>
 #include <numeric>
 #include <unordered_map>
 
@@ -134,7 +135,8 @@ PetscErrorCode SharedNodes(FDEMDeformable d, std::vector<char> &shared) {
 
 // An SF whose leaves are the given keys (two ints each) and whose roots are the distinct keys,
 // one root each on the rank key[0] % size (a rendezvous): leaves with one key share a root.
-PetscErrorCode KeySF(MPI_Comm comm, const std::vector<std::array<PetscInt, 2>> &keys, PetscSF *sf) {
+// root_keys (may be null) gets this rank's roots' keys, sorted, in the order of the roots.
+PetscErrorCode KeySF(MPI_Comm comm, const std::vector<std::array<PetscInt, 2>> &keys, PetscSF *sf, std::vector<std::array<PetscInt, 2>> *root_keys = nullptr) {
   PetscMPIInt size;
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -169,6 +171,7 @@ PetscErrorCode KeySF(MPI_Comm comm, const std::vector<std::array<PetscInt, 2>> &
   PetscCall(PetscSFCreate(comm, sf));
   PetscCall(PetscSFSetGraph(*sf, (PetscInt)roots.size(), (PetscInt)keys.size(), nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
   PetscCall(PetscSFSetUp(*sf));
+  if (root_keys) *root_keys = std::move(roots);
   PetscFunctionReturn(0);
 }
 } // namespace
@@ -192,7 +195,7 @@ PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nb
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t, bool number) {
+PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t) {
   constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableFractureTopology"));
@@ -371,53 +374,48 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   }
   PetscCall(PetscSFDestroy(&vsf));
   PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " rounds of label exchange (bound %" PetscInt_FMT ")\n", round, bound + 1));
-  // 5. The answer per cell; when asked, the fragments numbered by body and smallest cell id,
-  //    from the (body, id) of every fragment, given by the rank of its smallest cell.
+  // 5. The answer per cell: its free faces and flags, its nodes' keys and its fragment's id
+  //    (the smallest cell id in the fragment, the label of its class).
   PetscCall(DeformableJointCounts(d, &t.nbroken, &t.ndamaged));
   t.broken_pairs = std::move(pairs);
   t.cell_free.resize(nc);
   t.cell_key.resize(4 * (std::size_t)nc);
-  std::vector<PetscInt> mine;
+  t.cell_fragment.resize(nc);
   for (PetscInt e = 0; e < nc; ++e) {
     bool onfree = false;
     for (int a = 0; a < 4; ++a) {
       t.cell_key[4 * e + a] = nodes.Label(node(e, a));
       onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
     }
-    t.cell_free[e] = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0));
-    if (number && cells.Label(e) == d->cell_gid[e]) mine.push_back(d->ed.body[e]), mine.push_back(d->cell_gid[e]);
+    t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0));
+    t.cell_fragment[e] = cells.Label(e);
   }
-  if (!number) PetscFunctionReturn(0);
-  std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);
-  const PetscMPIInt        nmine = (PetscMPIInt)mine.size();
-  PetscCallMPI(MPI_Allgather(&nmine, 1, MPI_INT, cnt.data(), 1, MPI_INT, d->comm));
-  for (int r = 0; r < d->size; ++r) off[r + 1] = off[r] + cnt[r];
-  std::vector<PetscInt> all(off[d->size]);
-  PetscCallMPI(MPI_Allgatherv(mine.data(), nmine, MPIU_INT, all.data(), cnt.data(), off.data(), MPIU_INT, d->comm));
-  std::vector<std::array<PetscInt, 2>> frags(all.size() / 2);
-  for (std::size_t f = 0; f < frags.size(); ++f) frags[f] = {all[2 * f], all[2 * f + 1]};
-  std::sort(frags.begin(), frags.end());
-  t.nfragments = (PetscInt)frags.size();
-  t.fragment_body.resize(frags.size());
-  for (std::size_t f = 0; f < frags.size(); ++f) t.fragment_body[f] = frags[f][0];
-  t.cell_fragment.resize(nc);
-  for (PetscInt e = 0; e < nc; ++e) t.cell_fragment[e] = (PetscInt)(std::lower_bound(frags.begin(), frags.end(), std::array<PetscInt, 2>{d->ed.body[e], cells.Label(e)}) - frags.begin());
   PetscFunctionReturn(0);
 }
-PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *count, FDEMFragment *fragments[]) {
+
+namespace {
+// Orders fragments by body, then by id (the smallest cell id in them).
+bool FragmentBefore(const FDEMFragment &a, const FDEMFragment &b) { return a.body != b.body ? a.body < b.body : a.id < b.id; }
+
+// This rank's share of the fragments at the state U: those whose id is this rank modulo the
+// number of ranks. Each rank sums mass, m x, m v and the cell count over its cells per
+// fragment they belong to; the sums meet at the fragment's rank through a rendezvous SF on
+// (id, body). Nothing per fragment of the whole mesh is held anywhere.
+PetscErrorCode LocalFragments(FDEMDeformable d, Vec U, std::vector<FDEMFragment> &out) {
   fdem::model::FractureTopology t;
   StateView                     sv;
+  constexpr int                 kSums = 8; // mass, m x (3), m v (3), cells
   PetscFunctionBegin;
-  PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
-  PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
-  PetscCall(fdem::model::DeformableFractureTopology(d, t, true));
-  const PetscInt nf = t.nfragments;
-  if (count) *count = nf;
-  if (!fragments) PetscFunctionReturn(0);
-  // per fragment: mass, m x (3), m v (3), cells; each tetrahedron puts a quarter of its mass
-  // rho V at each vertex (the lumped mass), so a node shared by two bodies' fragments counts
-  // in each with its tetrahedra's share, and no node is counted twice across ranks
-  std::vector<PetscReal> loc(8 * (std::size_t)nf, 0.0), glob(8 * (std::size_t)nf);
+  PetscCall(fdem::model::DeformableFractureTopology(d, t));
+  const std::size_t                    nc = d->ed.size();
+  std::vector<std::array<PetscInt, 2>> keys(nc); // (id, body) of the fragments of this rank's cells
+  for (std::size_t e = 0; e < nc; ++e) keys[e] = {t.cell_fragment[e], d->ed.body[e]};
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  // each tetrahedron puts a quarter of its mass rho V at each vertex (the lumped mass), so a
+  // node shared by two bodies' fragments counts in each with its tetrahedra's share, and no
+  // node is counted twice across ranks
+  std::vector<PetscReal> leaf(kSums * keys.size(), 0.0);
   Vec                    Xl, Vl;
   const PetscScalar     *xl, *vl;
   PetscCall(sv.Get(d, U));
@@ -432,10 +430,11 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   PetscCall(sv.Restore());
   PetscCall(VecGetArrayRead(Xl, &xl));
   PetscCall(VecGetArrayRead(Vl, &vl));
-  for (std::size_t e = 0; e < d->ed.size(); ++e) {
+  for (std::size_t e = 0; e < nc; ++e) {
     const auto     &el = d->ed.elems[e];
     const PetscReal q  = d->ed.materials[el.material].rho * el.V0 / 4;
-    PetscReal      *F  = &loc[8 * (std::size_t)t.cell_fragment[e]];
+    const auto      k  = std::lower_bound(keys.begin(), keys.end(), std::array<PetscInt, 2>{t.cell_fragment[e], d->ed.body[e]}) - keys.begin();
+    PetscReal      *F  = &leaf[kSums * (std::size_t)k];
     F[0] += 4 * q;
     F[7] += 1;
     for (int a = 0; a < 4; ++a)
@@ -448,18 +447,87 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   PetscCall(VecRestoreArrayRead(Xl, &xl));
   PetscCall(DMRestoreLocalVector(d->dm, &Vl));
   PetscCall(DMRestoreLocalVector(d->dm, &Xl));
-  PetscCall(MPIU_Allreduce(loc.data(), glob.data(), (PetscMPIInt)loc.size(), MPIU_REAL, MPIU_SUM, d->comm));
-  PetscCall(PetscMalloc1(nf, fragments));
-  for (PetscInt f = 0; f < nf; ++f) {
-    FDEMFragment &F = (*fragments)[f];
-    const double *g = &glob[8 * f];
-    F.body          = t.fragment_body[f];
-    F.cells         = (PetscInt)g[7];
-    F.mass          = g[0];
+  // the rendezvous, widened to kSums values a key
+  PetscSF                              ksf, sf;
+  std::vector<std::array<PetscInt, 2>> mine;
+  const PetscSFNode                   *kremote;
+  PetscInt                             nroots;
+  PetscCall(KeySF(d->comm, keys, &ksf, &mine));
+  PetscCall(PetscSFGetGraph(ksf, &nroots, nullptr, nullptr, &kremote));
+  std::vector<PetscSFNode> remote(kSums * keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    for (int q = 0; q < kSums; ++q) remote[kSums * k + q] = {kremote[k].rank, kSums * kremote[k].index + q};
+  PetscCall(PetscSFCreate(d->comm, &sf));
+  PetscCall(PetscSFSetGraph(sf, kSums * nroots, (PetscInt)remote.size(), nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFDestroy(&ksf));
+  std::vector<PetscReal> root(kSums * (std::size_t)nroots, 0.0);
+  PetscCall(PetscSFReduceBegin(sf, MPIU_REAL, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFReduceEnd(sf, MPIU_REAL, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFDestroy(&sf));
+  out.resize(mine.size());
+  for (std::size_t f = 0; f < mine.size(); ++f) {
+    FDEMFragment    &F = out[f];
+    const PetscReal *g = &root[kSums * f];
+    F.id               = mine[f][0];
+    F.body             = mine[f][1];
+    F.cells            = (PetscInt)g[7];
+    F.mass             = g[0];
     for (int c = 0; c < 3; ++c) {
       F.x[c] = g[0] > 0 ? g[1 + c] / g[0] : 0;
       F.v[c] = g[0] > 0 ? g[4 + c] / g[0] : 0;
     }
   }
+  std::sort(out.begin(), out.end(), FragmentBefore);
+  PetscFunctionReturn(0);
+}
+
+// The array the API hands out (PetscMalloc1; NULL for none).
+PetscErrorCode CopyOut(const std::vector<FDEMFragment> &v, FDEMFragment *fragments[]) {
+  PetscFunctionBegin;
+  *fragments = nullptr;
+  if (!v.empty()) {
+    PetscCall(PetscMalloc1(v.size(), fragments));
+    std::copy(v.begin(), v.end(), *fragments);
+  }
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+PetscErrorCode FDEMDeformableGetLocalFragments(FDEMDeformable d, Vec U, PetscInt *count, FDEMFragment *fragments[]) {
+  std::vector<FDEMFragment> mine;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetLocalFragments"));
+  PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetLocalFragments: give count or fragments (or both)");
+  PetscCall(LocalFragments(d, U, mine));
+  if (count) *count = (PetscInt)mine.size();
+  if (fragments) PetscCall(CopyOut(mine, fragments));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *count, FDEMFragment *fragments[]) {
+  std::vector<FDEMFragment> mine;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
+  PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
+  PetscCall(LocalFragments(d, U, mine));
+  PetscMPIInt nmine = (PetscMPIInt)mine.size(), total;
+  if (!fragments) { // the count alone: one reduction
+    PetscCallMPI(MPI_Allreduce(&nmine, &total, 1, MPI_INT, MPI_SUM, d->comm));
+    *count = total;
+    PetscFunctionReturn(0);
+  }
+  // every rank's share to every rank, as bytes (the struct is PetscInt and PetscReal only)
+  std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);
+  const PetscMPIInt        bytes = (PetscMPIInt)(nmine * sizeof(FDEMFragment));
+  PetscCallMPI(MPI_Allgather(&bytes, 1, MPI_INT, cnt.data(), 1, MPI_INT, d->comm));
+  long long sum = 0;
+  for (int r = 0; r < d->size; ++r) sum += cnt[r];
+  PetscCheck(sum <= INT_MAX, d->comm, PETSC_ERR_SUP, "FDEMDeformableGetFragments: %lld fragments are too many to give every rank; use FDEMDeformableGetLocalFragments (each rank its share)", sum / (long long)sizeof(FDEMFragment));
+  for (int r = 0; r < d->size; ++r) off[r + 1] = off[r] + cnt[r];
+  std::vector<FDEMFragment> all(off[d->size] / sizeof(FDEMFragment));
+  PetscCallMPI(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), cnt.data(), off.data(), MPI_BYTE, d->comm));
+  std::sort(all.begin(), all.end(), FragmentBefore);
+  if (count) *count = (PetscInt)all.size();
+  PetscCall(CopyOut(all, fragments));
   PetscFunctionReturn(0);
 }

@@ -27,11 +27,7 @@ PetscErrorCode DeformableGetTS(FDEMDeformable d, TS *ts);
 struct FractureTopology {
   PetscInt                             nbroken    = 0; // broken joints (all ranks)
   PetscInt                             ndamaged   = 0; // joints with a point beyond its peak (D > 0; broken ones included; all ranks)
-  // with number = true only: the connected components over shared nodes and intact joints,
-  // numbered by body and smallest cell id (the same on any number of ranks)
-  PetscInt                             nfragments = 0;
-  std::vector<PetscInt>                fragment_body;  // per fragment (every rank)
-  std::vector<PetscInt>                cell_fragment;  // per local cell (FDEMDeformableGetLocalCells order)
+  std::vector<PetscInt>                cell_fragment;  // per local cell (FDEMDeformableGetLocalCells order): its fragment's id, the smallest cell id in the connected component over shared nodes and intact joints (the same on any number of ranks)
   std::vector<char>                    fracturable;    // per body: 1 if fracturable (every rank)
   // per local cell of a fracturable body (0 elsewhere): bit o set when the face opposite
   // node o is free (on the body's outer surface or on a broken joint); bit 4 set when a
@@ -44,10 +40,9 @@ struct FractureTopology {
   std::vector<std::array<PetscInt, 2>> broken_pairs; // the two cell ids of every broken joint with a cell on this rank, smaller first, sorted
 };
 // Collective (each rank works on its own cells and joints, and exchanges labels with the
-// ranks it shares joints or nodes with until they settle; deformable_fragments.cpp). With
-// number = false (the contact's use) the fragments are not numbered: no rank then holds
-// anything per fragment of the whole mesh.
-PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t, bool number);
+// ranks it shares joints or nodes with; deformable_fragments.cpp). Nothing per fragment of
+// the whole mesh is held anywhere.
+PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
 // The number of broken joints and of damaged joints (a point beyond its peak, broken ones
 // included), all ranks, in one reduction; collective when the mesh has joints, 0 at once (no
 // communication) when it has none. Both only grow.

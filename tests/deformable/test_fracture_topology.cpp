@@ -7,10 +7,12 @@
 // 0.1 < z < 0.2), and the joints of the plane z = 0.2 where x > 0.7 and y < 0.2 (a crack that
 // does not run through: its faces stay glued at its tip). Asserted, on 1, 2 and 3 ranks:
 //  1. 5 fragments: the rock left of the cut without the pocket (68 cubes), the pocket (4),
-//     the rock right of the cut (72), the plate (24) and the lid (24), numbered by body and
-//     then by their smallest cell id; every cell's fragment is the one of its region, and
-//     FDEMDeformableGetFragments gives each fragment's body, cell count (exactly) and mass
-//     (rho times its volume, to 1e-12 relative);
+//     the rock right of the cut (72), the plate (24) and the lid (24); every cell's fragment
+//     id is the smallest cell id of its region; FDEMDeformableGetFragments gives them ordered
+//     by body and id, with each fragment's body, id, cell count (exactly) and mass (rho times
+//     its volume, to 1e-12 relative), and its count alone gives 5; each rank's share
+//     (FDEMDeformableGetLocalFragments) is exactly the fragments of that list whose id is
+//     the rank modulo the ranks, in order, bitwise the same;
 //  2. every cell's fragment, free faces, vertex flag and node keys, the number of broken
 //     joints and the broken pairs that touch the rank's cells are those of the same mesh held
 //     whole by one rank (PETSC_COMM_SELF), by cell and node id;
@@ -23,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <map>
 #include <set>
 
@@ -127,17 +130,8 @@ int main(int argc, char **argv) {
   PetscCall(Break(d));
   PetscCall(Break(s));
   fdem::model::FractureTopology t, ts;
-  PetscCall(fdem::model::DeformableFractureTopology(d, t, true));
-  PetscCall(fdem::model::DeformableFractureTopology(s, ts, true));
-  { // the contact's call, without the numbering: the same faces, keys and broken pairs, and
-    // nothing per fragment of the whole mesh
-    fdem::model::FractureTopology u;
-    PetscCall(fdem::model::DeformableFractureTopology(d, u, false));
-    PetscInt off = u.cell_free != t.cell_free || u.cell_key != t.cell_key || u.broken_pairs != t.broken_pairs || u.nbroken != t.nbroken || u.ndamaged != t.ndamaged, goff;
-    off += u.nfragments != 0 || !u.fragment_body.empty() || !u.cell_fragment.empty();
-    PetscCallMPI(MPIU_Allreduce(&off, &goff, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
-    CHECK(goff == 0, "the topology without the fragments' numbering differs from the one with it on %" PetscInt_FMT " rank(s)", goff);
-  }
+  PetscCall(fdem::model::DeformableFractureTopology(d, t));
+  PetscCall(fdem::model::DeformableFractureTopology(s, ts));
   std::map<PetscInt, CellAnswer> mine, whole;
   std::vector<Vec3>              centroid;
   PetscCall(Answers(d, t, mine, &centroid));
@@ -156,20 +150,35 @@ int main(int argc, char **argv) {
   int order[5] = {0, 1, 2, 3, 4}, id[5];
   std::sort(order, order + 5, [&](int a, int b) { return kBody[a] != kBody[b] ? kBody[a] < kBody[b] : glow[a] < glow[b]; });
   for (int k = 0; k < 5; ++k) id[order[k]] = k;
-  CHECK(t.nfragments == 5, "%" PetscInt_FMT " fragments, expected 5", t.nfragments);
   PetscInt wrong = 0, gwrong;
-  for (PetscInt e = 0; e < nc; ++e) wrong += t.cell_fragment[e] != id[region[e]];
+  for (PetscInt e = 0; e < nc; ++e) wrong += t.cell_fragment[e] != glow[region[e]];
   PetscCallMPI(MPIU_Allreduce(&wrong, &gwrong, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
-  CHECK(gwrong == 0, "%" PetscInt_FMT " cells are not in the fragment of their region", gwrong);
-  PetscInt      nf;
-  FDEMFragment *f;
+  CHECK(gwrong == 0, "%" PetscInt_FMT " cells do not have the fragment id of their region (its smallest cell id)", gwrong);
+  PetscInt      nf, nmine, ncount;
+  FDEMFragment *f, *m;
   PetscCall(FDEMDeformableGetFragments(d, nullptr, &nf, &f));
+  PetscCall(FDEMDeformableGetFragments(d, nullptr, &ncount, nullptr));
+  CHECK(nf == 5 && ncount == 5, "%" PetscInt_FMT " fragments (%" PetscInt_FMT " counted alone), expected 5", nf, ncount);
   if (nf == 5)
     for (int r = 0; r < 5; ++r) {
       const FDEMFragment &F = f[id[r]];
       const double        m = kRho[r] * kCubes[r] * 1e-3;
-      CHECK(F.body == kBody[r] && F.cells == 6 * kCubes[r] && std::fabs(F.mass - m) <= 1e-12 * m, "fragment %d (region %d): body %" PetscInt_FMT ", %" PetscInt_FMT " cells, mass %.15g; expected body %d, %d cells, mass %.15g", id[r], r, F.body, F.cells, (double)F.mass, kBody[r], 6 * kCubes[r], m);
+      CHECK(F.body == kBody[r] && F.id == glow[r] && F.cells == 6 * kCubes[r] && std::fabs(F.mass - m) <= 1e-12 * m, "fragment %d (region %d): body %" PetscInt_FMT ", id %" PetscInt_FMT ", %" PetscInt_FMT " cells, mass %.15g; expected body %d, id %" PetscInt_FMT ", %d cells, mass %.15g", id[r], r, F.body, F.id, F.cells,
+            (double)F.mass, kBody[r], glow[r], 6 * kCubes[r], m);
     }
+  // each rank's share: the fragments whose id is the rank modulo the ranks, each the same
+  // (bitwise: the same sums in the same order) as in the whole list
+  PetscCall(FDEMDeformableGetLocalFragments(d, nullptr, &nmine, &m));
+  PetscInt bad = 0, expect = 0, gbad;
+  for (PetscInt k = 0; k < nf; ++k) expect += f[k].id % size == rank;
+  bad += nmine != expect;
+  for (PetscInt k = 0; k < nmine; ++k) {
+    const FDEMFragment *F = std::find_if(f, f + nf, [&](const FDEMFragment &g) { return g.id == m[k].id; });
+    bad += m[k].id % size != rank || F == f + nf || std::memcmp(F, &m[k], sizeof(FDEMFragment)) != 0 || (k > 0 && !(m[k - 1].body < m[k].body || (m[k - 1].body == m[k].body && m[k - 1].id < m[k].id)));
+  }
+  PetscCallMPI(MPIU_Allreduce(&bad, &gbad, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  CHECK(gbad == 0, "%" PetscInt_FMT " of the ranks' shares of the fragments (FDEMDeformableGetLocalFragments) are not the fragments of the whole list whose id is the rank modulo %d, in order", gbad, size);
+  PetscCall(PetscFree(m));
   PetscCall(PetscFree(f));
 
   // 2. the same answer as one rank holding the whole mesh
@@ -179,12 +188,10 @@ int main(int argc, char **argv) {
   for (const auto &p : ts.broken_pairs)
     if (mine.count(p[0]) || mine.count(p[1])) pairs.push_back(p);
   differ += pairs != t.broken_pairs;
-  differ += t.nbroken != ts.nbroken || t.nfragments != ts.nfragments || t.fragment_body != ts.fragment_body;
+  differ += t.nbroken != ts.nbroken;
   PetscCallMPI(MPIU_Allreduce(&differ, &gdiffer, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
-  CHECK(gdiffer == 0, "%" PetscInt_FMT " cells (or the counts, fragments' bodies or broken pairs of a rank) differ from one rank's answer", gdiffer);
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " broken joints, %" PetscInt_FMT " fragments (bodies", t.nbroken, t.nfragments));
-  for (PetscInt b : t.fragment_body) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %" PetscInt_FMT, b));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, ") on %d rank(s)\n", size));
+  CHECK(gdiffer == 0, "%" PetscInt_FMT " cells (or the count of broken joints or the broken pairs of a rank) differ from one rank's answer", gdiffer);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " broken joints, %" PetscInt_FMT " fragments on %d rank(s)\n", t.nbroken, nf, size));
 
   // 3. fragments across ranks
   if (size > 1) {

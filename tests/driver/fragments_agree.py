@@ -2,7 +2,7 @@
 """Fragments of a fracturing run: runs a scene with the fdem driver on 1 and on 2
 ranks and reads DIR/fragments.csv of each. Both must have at least MIN fragments,
 whose masses sum to MASS (to 1e-12 relative), and the same fragments in the same
-order: the same body, masses within 1e-12 relative, centres of mass within TOL (m)
+order: the same body, id (first_element) and element count, masses within 1e-12 relative, centres of mass within TOL (m)
 and velocities within 1000 TOL (m/s). The driver's text must give the count.
 DIR/fracture.csv, the joints in the order they broke, must be the same on 1 and 2
 ranks: the same joints (each once) in the same order, at the same steps, their times
@@ -51,6 +51,9 @@ worst = [0.0, 0.0, 0.0]
 for ra, rb in zip(a, b):
     if ra["body"] != rb["body"]:
         sys.exit(f"FAIL: fragment {ra['fragment']} is of body {ra['body']} on 1 rank, {rb['body']} on 2")
+    if (ra["first_element"], ra["elements"]) != (rb["first_element"], rb["elements"]):
+        sys.exit(f"FAIL: fragment {ra['fragment']} has id {ra['first_element']} and {ra['elements']} elements on 1 rank, "
+                 f"{rb['first_element']} and {rb['elements']} on 2")
     worst[0] = max(worst[0], abs(float(ra["mass"]) - float(rb["mass"])) / mass)
     worst[1] = max(worst[1], max(abs(float(ra[k]) - float(rb[k])) for k in ("x", "y", "z")))
     worst[2] = max(worst[2], max(abs(float(ra[k]) - float(rb[k])) for k in ("vx", "vy", "vz")))
