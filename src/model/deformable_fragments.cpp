@@ -10,22 +10,22 @@
 // the partner of a broken one); then two union-finds over its own nodes and cells: node keys
 // (copies glued by intact joints) and fragments (cells of one body sharing a node or held by
 // an intact joint). Every class carries a label, the smallest global id known to be in it.
-// The classes that reach other ranks are completed by rounds of label exchange: over the
-// joint SF (both ways) for the intact joints that straddle two ranks, and over a second SF
-// for the nodes that cells of a body share across ranks (built by a rendezvous on each
-// node's id). Each rank lowers its classes' labels to what it receives, and joins its own
-// classes that receive the same label (they touch the same class elsewhere). When a round
-// changes no label on any rank (one MPI_Allreduce), every class has the smallest id in it;
-// the smallest label travels at least one hop between the ranks' pieces per round, so the
-// rounds are at most one more than the number of those pieces, which bounds the loop. A
-// fragment's id is its class's label, the smallest cell id in it, the same on any number of
-// ranks. FDEMDeformableGetLocalFragments sums each fragment's mass, momentum and cells where
+// The classes that reach other ranks are completed in a fixed number of steps: one exchange
+// of labels over the joint SF (both ways) for the intact joints that straddle two ranks, and
+// over a second SF for the nodes that cells of a body share across ranks (built by a
+// rendezvous on each node's id), links each class at a rank boundary to the classes it
+// touches elsewhere; rank 0 gathers these links (two labels each) and the boundary classes'
+// flags, joins them with a union-find and sends every class back its component's smallest
+// label and flag. So every class ends with the smallest id in it, a fragment's id the same
+// on any number of ranks. FDEMDeformableGetLocalFragments sums each fragment's mass, momentum and cells where
 // its cells are and meets the sums at the rank id % size (a rendezvous), so each rank holds
 // its share; FDEMDeformableGetFragments gathers the shares on every rank. Cost of the
 // topology: a pass over the rank's cells, nodes and joints, two exchanges over the joint SF,
-// the rendezvous, then per round two exchanges over the straddling joints, two over the
-// shared nodes and one MPI_Allreduce, each the size of the rank boundaries. Memory per rank:
-// its cells, nodes and joints and the classes at its rank boundaries.
+// the rendezvous, one exchange over the straddling joints, two over the shared nodes, and a
+// gather and a scatter of the boundary classes and their links (two for nodes, two for
+// cells). Memory per rank: its cells, nodes and joints and the classes at its rank
+// boundaries; rank 0 holds, while it joins them, the classes and links of all ranks'
+// boundaries (the partition's surface, not the mesh).
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -44,7 +44,6 @@ namespace {
 struct Classes {
   std::vector<PetscInt> p, label;
   std::vector<char>     flag;
-  bool                  changed = false; // a label or a flag changed since reset
 
   explicit Classes(const std::vector<PetscInt> &ids) : p(ids.size()), label(ids), flag(ids.size(), 0) { std::iota(p.begin(), p.end(), (PetscInt)0); }
   PetscInt Find(PetscInt i) {
@@ -56,53 +55,96 @@ struct Classes {
     b = Find(b);
     if (a == b) return;
     if (label[b] < label[a]) std::swap(a, b);
-    changed = changed || label[a] != label[b] || flag[a] != flag[b];
     p[b]    = a;
     flag[a] = flag[a] | flag[b];
   }
   // what a class elsewhere that touches i says: its label L and flag f
   void Lower(PetscInt i, PetscInt L, char f) {
     const PetscInt r = Find(i);
-    if (L < label[r]) label[r] = L, changed = true;
-    if (f && !flag[r]) flag[r] = 1, changed = true;
+    if (L < label[r]) label[r] = L;
+    if (f) flag[r] = 1;
   }
   PetscInt Label(PetscInt i) { return label[Find(i)]; }
-  // the number of classes among the elements of list
-  PetscInt Count(const std::vector<PetscInt> &list) {
-    std::vector<PetscInt> r(list.size());
-    for (std::size_t k = 0; k < list.size(); ++k) r[k] = Find(list[k]);
-    std::sort(r.begin(), r.end());
-    return (PetscInt)(std::unique(r.begin(), r.end()) - r.begin());
-  }
 };
 
-// Received labels: (element, label, flag). Elements that receive the same label, or whose
-// class already has it, are in one class (each touches the class of the element with that
-// id); then each class takes the smallest label and the or of the flags it received.
-struct Received {
-  std::vector<PetscInt> elem, label;
-  std::vector<char>     flag;
-  void                  Add(PetscInt e, PetscInt L, char f) {
-    elem.push_back(e);
-    label.push_back(L);
-    flag.push_back(f);
+// Completes the classes c that reach other ranks, in one gather and one scatter. Each rank
+// lists its classes at rank boundaries (the classes of the elements in `boundary`) by label,
+// with their flags, and the links `edges` (its class's label, the label of a class elsewhere
+// that touches it), as the one exchange of labels with the neighbouring ranks gave them. A
+// label names one class on a rank (the smallest global id in it), and a label met on two
+// ranks is one class (a node both ranks hold), so rank 0 joins the labels over the links of
+// all ranks (a union-find on the labels) and gives every class its component's smallest
+// label and the or of its flags. Rank 0 holds the graph of the classes at the rank
+// boundaries of all ranks (two integers a class and a link), not the mesh.
+PetscErrorCode Settle(MPI_Comm comm, Classes &c, const std::vector<PetscInt> &boundary, std::vector<std::array<PetscInt, 2>> &edges, PetscInt *nclasses) {
+  PetscMPIInt rank, size;
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<PetscInt> verts(boundary.size());
+  for (std::size_t k = 0; k < boundary.size(); ++k) verts[k] = c.Label(boundary[k]);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::unordered_map<PetscInt, PetscInt> at; // a boundary class's label -> its element
+  for (PetscInt b : boundary) at.emplace(c.Label(b), b);
+  // sent: the number of classes, then (label, flag) per class, then the links' two labels
+  std::vector<PetscInt> send;
+  send.reserve(1 + 2 * verts.size() + 2 * edges.size());
+  send.push_back((PetscInt)verts.size());
+  for (PetscInt L : verts) send.push_back(L), send.push_back(c.flag[c.Find(at[L])]);
+  for (const auto &e : edges) send.push_back(e[0]), send.push_back(e[1]);
+  PetscCheck(send.size() <= (std::size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_SUP, "DeformableFractureTopology: %zu integers at this rank's boundaries are too many to gather", send.size());
+  const PetscMPIInt        nsend = (PetscMPIInt)send.size();
+  std::vector<PetscMPIInt> cnt(size), off(size + 1, 0), rcnt(size), roff(size + 1, 0);
+  PetscCallMPI(MPI_Gather(&nsend, 1, MPI_INT, cnt.data(), 1, MPI_INT, 0, comm));
+  std::vector<PetscInt> all, back;
+  int                   err = 0;
+  if (rank == 0) {
+    long long total = 0;
+    for (int r = 0; r < size; ++r) total += cnt[r];
+    err = total > INT_MAX;
+    for (int r = 0; r < size && !err; ++r) off[r + 1] = off[r] + cnt[r];
+    if (!err) all.resize(total);
   }
-  void Apply(Classes &c, const std::vector<PetscInt> &boundary) {
-    std::unordered_map<PetscInt, PetscInt> first;
-    for (PetscInt b : boundary) {
-      const auto it = first.emplace(c.Label(b), b);
-      if (!it.second) c.Unite(it.first->second, b);
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_SUP, "DeformableFractureTopology: the classes at the rank boundaries are too many to gather on one rank");
+  PetscCallMPI(MPI_Gatherv(send.data(), nsend, MPIU_INT, all.data(), cnt.data(), off.data(), MPIU_INT, 0, comm));
+  if (rank == 0) {
+    std::vector<PetscInt> labels; // every label sent, sorted: the union-find's elements
+    for (int r = 0; r < size; ++r) {
+      const PetscInt *A = &all[off[r]], nv = A[0], ne = (cnt[r] - 1 - 2 * nv) / 2;
+      for (PetscInt k = 0; k < nv; ++k) labels.push_back(A[1 + 2 * k]);
+      for (PetscInt k = 0; k < 2 * ne; ++k) labels.push_back(A[1 + 2 * nv + k]);
     }
-    for (std::size_t k = 0; k < elem.size(); ++k) {
-      const auto it = first.emplace(label[k], elem[k]);
-      if (!it.second) c.Unite(it.first->second, elem[k]);
-      c.Lower(elem[k], label[k], flag[k]);
+    std::sort(labels.begin(), labels.end());
+    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+    Classes    g(labels);
+    const auto idx = [&](PetscInt L) { return (PetscInt)(std::lower_bound(labels.begin(), labels.end(), L) - labels.begin()); };
+    for (int r = 0; r < size; ++r) {
+      const PetscInt *A = &all[off[r]], nv = A[0], ne = (cnt[r] - 1 - 2 * nv) / 2;
+      for (PetscInt k = 0; k < nv; ++k) g.Lower(idx(A[1 + 2 * k]), A[1 + 2 * k], (char)A[2 + 2 * k]);
+      for (PetscInt k = 0; k < ne; ++k) g.Unite(idx(A[1 + 2 * nv + 2 * k]), idx(A[2 + 2 * nv + 2 * k]));
     }
-    elem.clear();
-    label.clear();
-    flag.clear();
+    *nclasses = (PetscInt)labels.size();
+    for (int r = 0; r < size; ++r) { // back: (label, flag) of each class, in the order sent
+      const PetscInt *A  = &all[off[r]];
+      const PetscInt  nv = A[0];
+      rcnt[r]            = (PetscMPIInt)(2 * nv);
+      roff[r + 1]        = roff[r] + rcnt[r];
+      for (PetscInt k = 0; k < nv; ++k) {
+        const PetscInt i = idx(A[1 + 2 * k]);
+        back.push_back(g.Label(i));
+        back.push_back(g.flag[g.Find(i)]);
+      }
+    }
   }
-};
+  std::vector<PetscInt> mine(2 * verts.size());
+  PetscCallMPI(MPI_Scatterv(back.data(), rcnt.data(), roff.data(), MPIU_INT, mine.data(), (PetscMPIInt)mine.size(), MPIU_INT, 0, comm));
+  for (std::size_t k = 0; k < verts.size(); ++k) c.Lower(at[verts[k]], mine[2 * k], (char)mine[2 * k + 1]);
+  PetscFunctionReturn(0);
+}
 
 // A joint with a point beyond its peak (softening or broken).
 bool JointDamaged(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].D > 0 || st[1].D > 0 || st[2].D > 0; }
@@ -315,65 +357,48 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     PetscCall(KeySF(d->comm, keys, &vsf));
     cbnd.insert(cbnd.end(), vcell.begin(), vcell.end());
   }
-  // 4. Rounds of label exchange with the other ranks, until no label changes anywhere. The
-  //    smallest label of a class crosses at least one rank boundary per round, so the rounds
-  //    are at most the pieces of classes at those boundaries (a bound, not the expectation).
-  PetscInt pieces = nodes.Count(nbnd) + cells.Count(cbnd), bound;
-  PetscCallMPI(MPIU_Allreduce(&pieces, &bound, 1, MPIU_INT, MPI_SUM, d->comm));
-  std::vector<PetscInt> aleaf(9 * (std::size_t)nj), broot(3 * (std::size_t)nl), vleaf(vcell.size()), vroot;
-  for (std::size_t k = 0; k < aleaf.size(); ++k) aleaf[k] = k % 3 == 2 ? 1 : kNone; // a broken joint sends nothing (MPI_MIN)
-  PetscInt              nvroot = 0, round = 0;
-  if (vsf) PetscCall(PetscSFGetGraph(vsf, &nvroot, nullptr, nullptr, nullptr));
-  vroot.resize(nvroot);
-  Received rn, rc;
-  for (PetscMPIInt changed = 1; changed;) {
-    ++round;
-    PetscCheck(round <= bound + 1, d->comm, PETSC_ERR_PLIB, "DeformableFractureTopology: the labels did not settle in %" PetscInt_FMT " rounds", bound + 1);
-    nodes.changed = cells.changed = false;
-    if (d->jsf_remote) { // triangle b's labels to the joint's rank, triangle a's back (their smallest)
-      for (PetscInt l : remote_b) {
-        root[3 * l]      = nodes.Label(l);
-        root[3 * l + 1]  = cells.Label(node_cell[l]);
-        root[3 * l + 2]  = nodes.flag[nodes.Find(l)];
-        broot[3 * l]     = kNone;
-        broot[3 * l + 1] = kNone;
-        broot[3 * l + 2] = 1;
-      }
-      for (PetscInt j : remote_j)
-        for (int i = 0; i < 3; ++i) {
-          aleaf[9 * j + 3 * i]     = nodes.Label(d->jnode_a[j][i]);
-          aleaf[9 * j + 3 * i + 1] = cells.Label(ca[j]);
-          aleaf[9 * j + 3 * i + 2] = !nodes.flag[nodes.Find(d->jnode_a[j][i])]; // the flag as 1 - flag, for MPI_MIN
-        }
-      PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
-      PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
-      PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
-      PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
-      for (PetscInt j : remote_j) {
-        for (int i = 0; i < 3; ++i) rn.Add(d->jnode_a[j][i], leaf[9 * j + 3 * i], (char)leaf[9 * j + 3 * i + 2]);
-        rc.Add(ca[j], leaf[9 * j + 1], 0);
-      }
-      for (PetscInt l : remote_b) {
-        rn.Add(l, broot[3 * l], (char)!broot[3 * l + 2]);
-        rc.Add(node_cell[l], broot[3 * l + 1], 0);
-      }
+  // 4. One exchange of labels with the neighbouring ranks links each class at a rank boundary
+  //    to the classes it touches elsewhere; then the links of all ranks settle the classes at
+  //    once (Settle: a gather on rank 0 and a scatter back), so the communication is a fixed
+  //    number of steps whatever the shape of the fragments.
+  std::vector<std::array<PetscInt, 2>> nedges, cedges; // (label here, label elsewhere)
+  if (d->jsf_remote) { // triangle b's labels to the joint's rank, triangle a's back (their smallest)
+    std::vector<PetscInt> aleaf(9 * (std::size_t)nj, kNone), broot(3 * (std::size_t)nl, kNone); // a broken joint sends nothing (MPI_MIN)
+    for (PetscInt l : remote_b) root[3 * l] = nodes.Label(l), root[3 * l + 1] = cells.Label(node_cell[l]);
+    for (PetscInt j : remote_j)
+      for (int i = 0; i < 3; ++i) aleaf[9 * j + 3 * i] = nodes.Label(d->jnode_a[j][i]), aleaf[9 * j + 3 * i + 1] = cells.Label(ca[j]);
+    PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
+    PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
+    for (PetscInt j : remote_j) {
+      for (int i = 0; i < 3; ++i) nedges.push_back({nodes.Label(d->jnode_a[j][i]), leaf[9 * j + 3 * i]});
+      cedges.push_back({cells.Label(ca[j]), leaf[9 * j + 1]});
     }
-    if (vsf) { // the smallest label of every shared (node, body) to the cells that share it
-      for (std::size_t i = 0; i < vcell.size(); ++i) vleaf[i] = cells.Label(vcell[i]);
-      std::fill(vroot.begin(), vroot.end(), kNone);
-      PetscCall(PetscSFReduceBegin(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
-      PetscCall(PetscSFReduceEnd(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
-      PetscCall(PetscSFBcastBegin(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
-      PetscCall(PetscSFBcastEnd(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
-      for (std::size_t i = 0; i < vcell.size(); ++i) rc.Add(vcell[i], vleaf[i], 0);
+    for (PetscInt l : remote_b) {
+      nedges.push_back({nodes.Label(l), broot[3 * l]});
+      cedges.push_back({cells.Label(node_cell[l]), broot[3 * l + 1]});
     }
-    rn.Apply(nodes, nbnd);
-    rc.Apply(cells, cbnd);
-    changed = nodes.changed || cells.changed;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, d->comm));
   }
-  PetscCall(PetscSFDestroy(&vsf));
-  PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " rounds of label exchange (bound %" PetscInt_FMT ")\n", round, bound + 1));
+  if (vsf) { // the smallest label of every shared (node, body) to the cells that share it
+    PetscInt              nvroot;
+    std::vector<PetscInt> vleaf(vcell.size());
+    PetscCall(PetscSFGetGraph(vsf, &nvroot, nullptr, nullptr, nullptr));
+    std::vector<PetscInt> vroot(nvroot, kNone);
+    for (std::size_t i = 0; i < vcell.size(); ++i) vleaf[i] = cells.Label(vcell[i]);
+    PetscCall(PetscSFReduceBegin(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
+    PetscCall(PetscSFReduceEnd(vsf, MPIU_INT, vleaf.data(), vroot.data(), MPI_MIN));
+    PetscCall(PetscSFBcastBegin(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(vsf, MPIU_INT, vroot.data(), vleaf.data(), MPI_REPLACE));
+    for (std::size_t i = 0; i < vcell.size(); ++i) cedges.push_back({cells.Label(vcell[i]), vleaf[i]});
+    PetscCall(PetscSFDestroy(&vsf));
+  }
+  if (d->size > 1) {
+    PetscInt nn = 0, ncl = 0;
+    PetscCall(Settle(d->comm, nodes, nbnd, nedges, &nn));
+    PetscCall(Settle(d->comm, cells, cbnd, cedges, &ncl));
+    if (d->rank == 0) PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " node and %" PetscInt_FMT " cell classes at the rank boundaries, settled on rank 0\n", nn, ncl));
+  }
   // 5. The answer per cell: its free faces and flags, its nodes' keys and its fragment's id
   //    (the smallest cell id in the fragment, the label of its class).
   PetscCall(DeformableJointCounts(d, &t.nbroken, &t.ndamaged));
