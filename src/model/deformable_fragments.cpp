@@ -95,16 +95,15 @@ PetscErrorCode Settle(MPI_Comm comm, Classes &c, const std::vector<PetscInt> &bo
   send.push_back((PetscInt)verts.size());
   for (PetscInt L : verts) send.push_back(L), send.push_back(c.flag[c.Find(at[L])]);
   for (const auto &e : edges) send.push_back(e[0]), send.push_back(e[1]);
-  PetscCheck(send.size() <= (std::size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_SUP, "DeformableFractureTopology: %zu integers at this rank's boundaries are too many to gather", send.size());
-  const PetscMPIInt        nsend = (PetscMPIInt)send.size();
+  const PetscMPIInt        nsend = send.size() <= (std::size_t)INT_MAX ? (PetscMPIInt)send.size() : -1; // -1: too many (rank 0 tells every rank)
   std::vector<PetscMPIInt> cnt(size), off(size + 1, 0), rcnt(size), roff(size + 1, 0);
   PetscCallMPI(MPI_Gather(&nsend, 1, MPI_INT, cnt.data(), 1, MPI_INT, 0, comm));
   std::vector<PetscInt> all, back;
   int                   err = 0;
   if (rank == 0) {
     long long total = 0;
-    for (int r = 0; r < size; ++r) total += cnt[r];
-    err = total > INT_MAX;
+    for (int r = 0; r < size; ++r) total += cnt[r], err = err || cnt[r] < 0;
+    err = err || total > INT_MAX;
     for (int r = 0; r < size && !err; ++r) off[r + 1] = off[r] + cnt[r];
     if (!err) all.resize(total);
   }
@@ -534,13 +533,16 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
   PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
-  PetscCall(LocalFragments(d, U, mine));
-  PetscMPIInt nmine = (PetscMPIInt)mine.size(), total;
-  if (!fragments) { // the count alone: one reduction
-    PetscCallMPI(MPI_Allreduce(&nmine, &total, 1, MPI_INT, MPI_SUM, d->comm));
-    *count = total;
+  if (!fragments) { // the count alone: the cells that name their fragment, over the ranks
+    fdem::model::FractureTopology t;
+    PetscInt                      n = 0;
+    PetscCall(fdem::model::DeformableFractureTopology(d, t));
+    for (std::size_t e = 0; e < t.cell_fragment.size(); ++e) n += t.cell_fragment[e] == d->cell_gid[e];
+    PetscCallMPI(MPIU_Allreduce(&n, count, 1, MPIU_INT, MPI_SUM, d->comm));
     PetscFunctionReturn(0);
   }
+  PetscCall(LocalFragments(d, U, mine));
+  const PetscMPIInt nmine = (PetscMPIInt)mine.size();
   // every rank's share to every rank, as bytes (the struct is PetscInt and PetscReal only)
   std::vector<PetscMPIInt> cnt(d->size), off(d->size + 1, 0);
   const PetscMPIInt        bytes = (PetscMPIInt)(nmine * sizeof(FDEMFragment));
