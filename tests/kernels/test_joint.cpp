@@ -428,3 +428,50 @@ TEST(Joint, HingedJointResistsItsPressedCornerOverTheFace) {
   const double g[3] = {d, 2 * d, 3 * d};
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(hb[i][2], A / 12 * k * (g[i] + g[0] + g[1] + g[2]), 1e-3 * A / 12 * k * d) << "vertex " << i;
 }
+
+// A joint whose three points have broken keeps its compression while a vertex of its faces is
+// pressed into the other, and goes (JointBroken: its faces become contact surfaces) at the
+// first evaluation where none is: it then stores nothing, so its going takes no energy away
+// (doc/fracture.md, "Broken joints"). Once gone it carries nothing, pressed or not. Both rules
+// of the compression.
+TEST(Joint, BrokenJointGoesOnlyOnceItsFacesPart) {
+  for (double rule : {1.0, 0.0}) {
+    JointLaw L         = MakeJointLaw(Mortar(), 0.01);
+    L.face_compression = rule;
+    const double d     = 0.1 * L.dn_peak;
+    JointState   st[3];
+    for (auto &p : st) p.SetDamage(1);
+    EXPECT_TRUE(JointPointsBroken(st));
+    EXPECT_FALSE(JointBroken(st));
+    // pressed in all over (rule 0 sees its midpoints), then in at one corner only (rule 1)
+    for (const double dz0 : {-d, rule != 0 ? -d : -4 * d}) {
+      const double dz[3] = {dz0, rule != 0 ? 2 * d : -d, rule != 0 ? 2 * d : -d};
+      double       xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+      Hinge(dz, xa, xb);
+      const double e = JointElementEnergy(L, xa, xb, st);
+      JointElementForces(L, xa, xb, st, fa, fb);
+      EXPECT_GT(e, 0) << "rule " << rule;
+      EXPECT_GT(fb[0][2], 0) << "rule " << rule; // B's corner pushed back out
+      EXPECT_FALSE(JointBroken(st)) << "rule " << rule << ": gone while pressed in";
+    }
+    // the faces part (every vertex open): nothing stored just before, nothing carried, gone
+    const double open[3] = {d, 2 * d, 2 * d};
+    double       xa[3][3], xb[3][3], fa[3][3] = {}, fb[3][3] = {};
+    Hinge(open, xa, xb);
+    EXPECT_EQ(JointElementEnergy(L, xa, xb, st), 0);
+    JointElementForces(L, xa, xb, st, fa, fb);
+    EXPECT_TRUE(JointBroken(st)) << "rule " << rule;
+    EXPECT_EQ(JointElementEnergy(L, xa, xb, st), 0);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(fb[i][k], 0);
+    // gone: pressed in again, it carries and stores nothing (the contact's turn)
+    const double in[3] = {-d, -d, -d};
+    double       ya[3][3], yb[3][3], ga[3][3] = {}, gb[3][3] = {};
+    Hinge(in, ya, yb);
+    JointElementForces(L, ya, yb, st, ga, gb);
+    EXPECT_EQ(JointElementEnergy(L, ya, yb, st), 0);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(gb[i][k], 0);
+    EXPECT_TRUE(JointBroken(st));
+  }
+}
