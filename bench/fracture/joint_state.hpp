@@ -1,8 +1,7 @@
 // Shared by the fracture benches: a joint state loaded into a fracturable model the way a
 // checkpoint's is (FDEMDeformableLoadJointState): every third joint broken, every joint, or
 // none, as `every` says (a joint j is broken when every > 0 and j % every == 0; its three
-// points get damage 1 and shear damage 1, and it is gone: its faces are contact surfaces),
-// the dissipated energies 0; written to `file` (a scratch file in the
+// points get damage 1 and shear damage 1), the dissipated energies 0; written to `file` (a scratch file in the
 // working directory), read back and removed.
 #pragma once
 #include <fdem/deformable.h>
@@ -11,7 +10,7 @@
 #include <cstdio>
 
 static inline PetscErrorCode LoadJointDamage(FDEMDeformable d, PetscInt joints, PetscInt every, const char *file) {
-  Vec         D, W, E, G;
+  Vec         D, W, E;
   PetscViewer v;
   PetscInt    lo, hi;
   PetscFunctionBeginUser;
@@ -27,17 +26,10 @@ static inline PetscErrorCode LoadJointDamage(FDEMDeformable d, PetscInt joints, 
   PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, joints, &E));
   PetscCall(PetscObjectSetName((PetscObject)E, "joint_dissipated"));
   PetscCall(VecSet(E, 0.0));
-  PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, joints, &G));
-  PetscCall(PetscObjectSetName((PetscObject)G, "joint_gone"));
-  PetscCall(VecGetOwnershipRange(G, &lo, &hi));
-  for (PetscInt j = lo; j < hi; ++j) PetscCall(VecSetValue(G, j, every > 0 && j % every == 0 ? 1.0 : 0.0, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(G));
-  PetscCall(VecAssemblyEnd(G));
   PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_WRITE, &v));
   PetscCall(VecView(D, v));
   PetscCall(VecView(W, v));
   PetscCall(VecView(E, v));
-  PetscCall(VecView(G, v));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_READ, &v));
   PetscCall(FDEMDeformableLoadJointState(d, v));
@@ -49,6 +41,5 @@ static inline PetscErrorCode LoadJointDamage(FDEMDeformable d, PetscInt joints, 
   PetscCall(VecDestroy(&D));
   PetscCall(VecDestroy(&W));
   PetscCall(VecDestroy(&E));
-  PetscCall(VecDestroy(&G));
   PetscFunctionReturn(0);
 }

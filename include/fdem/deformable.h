@@ -83,10 +83,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
    (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field
    callbacks still use the input mesh's ids (an input node stands for all its copies), while node ids and
    counts that the library reports are those of the split mesh. Joints that straddle
-   ranks are computed by the rank of one side. A joint is broken once all three of its
-   points are and its faces are no longer pressed into each other at any vertex (until
-   then it keeps its compression, so that it goes with nothing stored); its two faces then
-   become contact surfaces of the contact engine
+   ranks are computed by the rank of one side. A joint is broken when all three of its
+   points are; its two faces then become contact surfaces of the contact engine
    (FDEMDeformableContact and a scene's rigid-deformable contact) and the body may fall
    into fragments (FDEMDeformableGetFragments). The joints' energy: GetJointEnergy;
    their state in checkpoints: View/LoadJointState. */
@@ -96,11 +94,10 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at
    the first evaluation of a TS (the limit measured in test_fracture_bar: doc/fracture.md). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointFrequency(FDEMDeformable dfm, PetscReal *omega);
-/* After set-up: the number of joints, of broken joints (gone: every point broken and the
-   faces no longer pressed together), and the largest damage reached (collective). */
+/* After set-up: the number of joints, of joints broken at all three points, and the
+   largest damage reached (collective). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable dfm, PetscInt *joints, PetscInt *broken, PetscReal *max_damage);
-/* The joints that broke (every point broken and the faces no longer pressed together: the
-   joint is gone) since the previous
+/* The joints that broke (their third point broken: the joint is gone) since the previous
    call, or since set-up: *count gets their number and *breaks (may be NULL) an array of them,
    allocated with PetscMalloc1 (free it with PetscFree), the same on every rank, ordered by
    time and then by joint id, which is the same on any number of ranks. A break is recorded
@@ -121,10 +118,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointBreaks(FDEMDeformable dfm, Pet
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable dfm, Vec U, PetscReal *stored, PetscReal *dissipated);
 /* Writes (loads) the joints' state to (from) a viewer, e.g. an HDF5 file: `joint_damage`,
    3 damages per joint in the split's joint order (1 = broken; independent of the rank
-   count), `joint_shear_damage` (3 values), `joint_dissipated` (1 value) and `joint_gone`
-   (1 once the joint is gone; a checkpoint without it, from an earlier fdem, counts a joint
-   with every point broken as gone). Loading checks the size and the range and names the
-   first bad joint. Nothing is written or read without joints. Collective. */
+   count), and `joint_dissipated` (1 value). Loading checks the size and the range and names
+   the first bad joint. Nothing is written or read without joints. Collective. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable dfm, PetscViewer viewer);
 PETSC_EXTERN PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable dfm, PetscViewer viewer);
 /* Fragments: the connected components of the tetrahedra of each body, two tetrahedra being

@@ -438,26 +438,14 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     }
     if (B.dissipated[b]) *B.dissipated[b] += diss;
     if (JointBroken(state)) {
-      G.ok[b] = 0; // gone: the faces are contact surfaces
+      G.ok[b] = 0; // the faces are contact surfaces now
       continue;
     }
-    // A broken point of a joint that is not gone is not a contact surface yet: it keeps the
-    // compression penalty, so that its faces cannot pass through each other and meet the
-    // contact engine deeply overlapped when the joint goes.
+    // A broken point of a joint that still holds (its other points intact) is not a contact
+    // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
+    // other and meet the contact engine deeply overlapped when the joint breaks through.
     for (int q = 0; q < 3; ++q)
       if (state[q].broken()) sigma[q][b] = G.dn[q][b] < 0 ? NormalUndamaged(L, G.dn[q][b]) : 0.0, tau[q][b] = 0;
-    if (JointPointsBroken(state)) { // it goes once no vertex is pressed in: with nothing stored
-      bool pressed = false;
-      for (int v = 0; v < 3 && G.ok[b] != 0; ++v) {
-        double g = 0; // the overlap at vertex v, -(opening)
-        for (int k = 0; k < 3; ++k) g -= (B.xb[3 * v + k][b] - B.xa[3 * v + k][b]) * G.n[k][b];
-        pressed = pressed || g > 0;
-      }
-      if (!pressed) {
-        state[0].D = kJointGone;
-        G.ok[b]    = 0;
-      }
-    }
   }
   // the face rule of the compression (JointLaw::face_compression), in a function of its own
   alignas(32) double face[N], dI[3][N];

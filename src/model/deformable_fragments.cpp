@@ -2,8 +2,7 @@
 // fractured mesh, which the contact adapter (src/contact/mesh_adapter.cpp) and
 // FDEMDeformableGetFragments use.
 //
-// A joint is broken (gone) when all three of its points are and its faces are no longer
-// pressed together (fdem::kernels::JointBroken). The topology is computed where the
+// A joint is broken when all three of its points are. The topology is computed where the
 // cells are, without gathering the mesh anywhere. Each rank first works out what it can
 // alone: the faces of its cells that are free (on the body's surface or on a broken joint)
 // and the broken joints that touch its cells, with an exchange each way over the joint SF (the rank

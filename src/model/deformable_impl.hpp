@@ -23,8 +23,7 @@ PetscErrorCode DeformableGetFixed(FDEMDeformable d, const std::vector<char> **fi
 PetscErrorCode DeformableGetTS(FDEMDeformable d, TS *ts);
 
 // Broken joints and fragments (deformable_fragments.cpp, doc/fracture.md). A joint is
-// broken (gone) when all three of its points are and its faces are no longer pressed together
-// (fdem::kernels::JointBroken). The topology of the fractured mesh:
+// broken when all three of its points are. The topology of the fractured mesh:
 struct FractureTopology {
   PetscInt                             nbroken    = 0; // broken joints (all ranks)
   PetscInt                             ndamaged   = 0; // joints with a point beyond its peak (D > 0; broken ones included; all ranks)

@@ -385,10 +385,8 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   std::vector<PetscReal> D(3 * d->jstate.size());
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) D[3 * j + q] = std::fmin(d->jstate[j][q].D, 1.0); // 1 once broken
+    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].D; // 1 once broken
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
-  for (std::size_t j = 0; j < d->jstate.size(); ++j) D[j] = fdem::kernels::JointBroken(d->jstate[j].data()) ? 1 : 0;
-  PetscCall(JointField(d, viewer, "joint_gone", 1, D.data(), false));
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
   PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
@@ -411,13 +409,6 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
-  // A checkpoint written before a broken joint waited for its faces to part has no
-  // joint_gone: its joints with every point broken were gone (their faces contact surfaces).
-  std::vector<PetscReal> G(d->jstate.size(), -1.0);
-  PetscBool              hasgone = PETSC_TRUE;
-  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_gone", &hasgone));
-  if (hasgone) PetscCall(JointField(d, viewer, "joint_gone", 1, G.data(), true));
-  else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_gone (written by an earlier fdem); its joints with every point broken are gone, as they were then\n"));
   PetscInt bad = -1;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     for (int q = 0; q < 3; ++q) {
@@ -426,14 +417,11 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       d->jstate[j][q].SetDamage(v);
       d->jstate[j][q].shear_damage = (float)w;
     }
-    const bool all = fdem::kernels::JointPointsBroken(d->jstate[j].data());
-    if (!(G[j] == -1 || G[j] == 0 || (G[j] == 1 && all)) && bad < 0) bad = d->jgid[j];
-    if (G[j] == 1 || (G[j] == -1 && all)) d->jstate[j][0].D = fdem::kernels::kJointGone;
     d->jgone[j] = fdem::kernels::JointBroken(d->jstate[j].data()); // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1], a negative dissipated energy, or is marked gone (joint_gone) without every point broken, in the saved state", bad);
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
   PetscFunctionReturn(0);
 }
 
@@ -502,8 +490,12 @@ PetscErrorCode FDEMDeformableGetJointStats(FDEMDeformable d, PetscInt *joints, P
   PetscInt  nb = 0;
   PetscReal D  = 0;
   for (const auto &st : d->jstate) {
-    for (const auto &p : st) D = std::fmax(D, std::fmin(p.D, 1.0)); // kJointGone is a mark, not a damage
-    nb += fdem::kernels::JointBroken(st.data()) ? 1 : 0;
+    bool all = true;
+    for (const auto &p : st) {
+      all = all && p.broken();
+      D   = std::fmax(D, p.D);
+    }
+    nb += all ? 1 : 0;
   }
   if (broken) PetscCallMPI(MPI_Allreduce(&nb, broken, 1, MPIU_INT, MPI_SUM, d->comm));
   if (max_damage) PetscCallMPI(MPI_Allreduce(&D, max_damage, 1, MPIU_REAL, MPI_MAX, d->comm));

@@ -94,7 +94,7 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
   std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J
   std::vector<PetscInt>                   jbody;          // their bodies
-  std::vector<char>                       jgone;          // gone (JointBroken; and reported in jbreaks)
+  std::vector<char>                       jgone;          // broken at all three points (and reported in jbreaks)
   std::vector<FDEMJointBreak>             jbreaks;        // this rank's breaks since FDEMDeformableGetJointBreaks last took them
   PetscSF                                 jsf = nullptr;  // 9 leaves per joint <- triangle b's node coordinates (roots: local vectors)
   std::vector<std::array<int, 3>>         jnode_b;        // local nodes of triangle b where it is on this rank, else -1

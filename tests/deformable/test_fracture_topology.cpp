@@ -80,10 +80,8 @@ PetscErrorCode Break(FDEMDeformable d) {
     const Vec3   c = (1.0 / 3) * (p[0] + p[1] + p[2]), n = cross(p[1] - p[0], p[2] - p[0]);
     const Vec3   off = (1e-3 / norm(n)) * n;
     const bool   crack = std::fabs(c.z - 0.2) < 1e-9 && std::fabs(n.x) + std::fabs(n.y) < 1e-12 && c.x > 0.7 && c.y < 0.2;
-    if (Region(c + off) != Region(c - off) || crack) {
+    if (Region(c + off) != Region(c - off) || crack)
       for (auto &s : d->jstate[j]) s.SetDamage(1);
-      d->jstate[j][0].D = fdem::kernels::kJointGone; // gone, as a force evaluation marks it once its faces part
-    }
   }
   PetscFunctionReturn(0);
 }

@@ -73,24 +73,15 @@ struct JointState {
   // (an exp) at every evaluation: 1 while D = 0, 0 once broken. The tractions, the stored and
   // the dissipated energy all use the rounded value.
   float softening = 1;
-  // D = 1: the point carries nothing of the law (until its joint element is gone, it keeps the
-  // compression penalty at its broken points). D = kJointGone at a joint's first point marks
-  // the joint gone (JointBroken).
+  // D = 1: the point carries nothing of the law (while its joint holds, a joint element keeps
+  // the compression penalty at its broken points).
   bool broken() const { return D >= 1; }
   // D and its softening factor together (a restart, a test); damage in [0, 1].
   void SetDamage(double damage);
 };
 
-// The mark a joint element's first point carries (as its D) once the joint is gone.
-constexpr double kJointGone = 2;
-// Every point of the joint element broken: it carries no tension and no shear, only the
-// compression penalty while its faces are pressed together.
-inline bool JointPointsBroken(const JointState state[3]) { return state[0].broken() && state[1].broken() && state[2].broken(); }
-// A joint element is broken (gone: its faces are contact surfaces) once every point is broken
-// and no vertex of either face is pressed into the other, so that it goes with nothing stored
-// and the contact takes over without a jump of energy (doc/fracture.md, "Broken joints").
-// JointBlockForces marks it: kJointGone as its first point's D.
-inline bool JointBroken(const JointState state[3]) { return state[0].D >= kJointGone; }
+// A joint element is broken when all three of its points are: its faces are contact surfaces.
+inline bool JointBroken(const JointState state[3]) { return state[0].broken() && state[1].broken() && state[2].broken(); }
 
 struct JointTraction {
   double sigma = 0; // normal traction, Pa (tension > 0; compression < 0 is the penalty 2 f_t dn / dn_peak)
