@@ -11,7 +11,8 @@
 // (copies glued by intact joints) and fragments (cells of one body sharing a node or held by
 // an intact joint). Every class carries a label, the smallest global id known to be in it.
 // The classes that reach other ranks are completed in a fixed number of steps: one exchange
-// of labels over the joint SF (both ways) for the intact joints that straddle two ranks, and
+// of labels over the joint SF (triangle b's to the joint's rank) for the intact joints that
+// straddle two ranks, and
 // over a second SF for the nodes that cells of a body share across ranks (built by a
 // rendezvous on each node's id), links each class at a rank boundary to the classes it
 // touches elsewhere; rank 0 gathers these links (two labels each) and the boundary classes'
@@ -21,7 +22,7 @@
 // its cells are and meets the sums at the rank id % size (a rendezvous), so each rank holds
 // its share; FDEMDeformableGetFragments gathers the shares on every rank. Cost of the
 // topology: a pass over the rank's cells, nodes and joints, two exchanges over the joint SF,
-// the rendezvous, one exchange over the straddling joints, two over the shared nodes, and a
+// the rendezvous, one broadcast over the straddling joints, two over the shared nodes, and a
 // gather and a scatter of the boundary classes and their links (two for nodes, two for
 // cells). Memory per rank: its cells, nodes and joints and the classes at its rank
 // boundaries; rank 0 holds, while it joins them, the classes and links of all ranks'
@@ -361,22 +362,13 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    once (Settle: a gather on rank 0 and a scatter back), so the communication is a fixed
   //    number of steps whatever the shape of the fragments.
   std::vector<std::array<PetscInt, 2>> nedges, cedges; // (label here, label elsewhere)
-  if (d->jsf_remote) { // triangle b's labels to the joint's rank, triangle a's back (their smallest)
-    std::vector<PetscInt> aleaf(9 * (std::size_t)nj, kNone), broot(3 * (std::size_t)nl, kNone); // a broken joint sends nothing (MPI_MIN)
+  if (d->jsf_remote) { // triangle b's labels to the joint's rank: a link per straddling intact joint (rank 0 joins both ways)
     for (PetscInt l : remote_b) root[3 * l] = nodes.Label(l), root[3 * l + 1] = cells.Label(node_cell[l]);
-    for (PetscInt j : remote_j)
-      for (int i = 0; i < 3; ++i) aleaf[9 * j + 3 * i] = nodes.Label(d->jnode_a[j][i]), aleaf[9 * j + 3 * i + 1] = cells.Label(ca[j]);
     PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
-    PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
     PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
-    PetscCall(PetscSFReduceEnd(d->jsf_remote, MPIU_INT, aleaf.data(), broot.data(), MPI_MIN));
     for (PetscInt j : remote_j) {
       for (int i = 0; i < 3; ++i) nedges.push_back({nodes.Label(d->jnode_a[j][i]), leaf[9 * j + 3 * i]});
       cedges.push_back({cells.Label(ca[j]), leaf[9 * j + 1]});
-    }
-    for (PetscInt l : remote_b) {
-      nedges.push_back({nodes.Label(l), broot[3 * l]});
-      cedges.push_back({cells.Label(node_cell[l]), broot[3 * l + 1]});
     }
   }
   if (vsf) { // the smallest label of every shared (node, body) to the cells that share it
