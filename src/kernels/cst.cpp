@@ -3,7 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <sstream>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include <fdem/kernels/error.hpp>
 
@@ -192,6 +197,85 @@ inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__r
 // element at a time).
 constexpr std::size_t kBlock = 16;
 
+// A block's inputs, component-major: corner a's coordinate k of element b at x[3 a + k][b],
+// the rows of X^-1, V0 and 1/(6 V0). Gathered from the element records and the node array.
+struct BlockInputs {
+  alignas(32) double x[12][kBlock], Xi[9][kBlock], V0[kBlock], inv6V0[kBlock];
+};
+
+// Elements b0 .. nb - 1 of the block, one value at a time.
+void GatherColumns(const TetElement *elems, std::size_t b0, std::size_t nb, const double *x, BlockInputs &in) {
+  for (std::size_t b = b0; b < nb; ++b) {
+    const TetElement &el = elems[b];
+    for (int a = 0; a < 4; ++a)
+      for (int j = 0; j < 3; ++j) in.x[3 * a + j][b] = x[3 * el.n[a] + j];
+    for (int j = 0; j < 9; ++j) in.Xi[j][b] = el.Xinv[j];
+    in.V0[b] = el.V0, in.inv6V0[b] = el.inv6V0;
+  }
+}
+
+#if defined(__x86_64__)
+// Four elements at a time with AVX2: a node's coordinates are loaded as one 4-double row
+// (x[3n - 1 .. 3n + 2], its predecessor's z first, so that the load never reads past the
+// array's end; node 0 is built from scalars) and four such rows are transposed into the
+// component-major arrays; the constants likewise, from three 4-double rows of each record
+// (X^-1 0..3, 4..7, and X^-1 7, X^-1 8, V0, 1/(6V0)). The same values as GatherColumns.
+__attribute__((target("avx2"))) void GatherAVX2(const TetElement *elems, std::size_t nb, const double *x, BlockInputs &in) {
+  static_assert(offsetof(TetElement, inv6V0) == offsetof(TetElement, Xinv) + 10 * sizeof(double), "the record's constants in a row");
+  std::size_t b = 0;
+  for (; b + 4 <= nb; b += 4) {
+    const TetElement *e = elems + b;
+    for (int a = 0; a < 4; ++a) {
+      __m256d r[4];
+      for (int i = 0; i < 4; ++i) {
+        const int n = e[i].n[a];
+        r[i] = n > 0 ? _mm256_loadu_pd(x + 3 * n - 1) : _mm256_set_pd(x[2], x[1], x[0], 0.0);
+      }
+      const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]); // (-, -, y0, y1), (x0, x1, z0, z1)
+      const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+      _mm256_store_pd(&in.x[3 * a][b], _mm256_permute2f128_pd(t1, t3, 0x20));
+      _mm256_store_pd(&in.x[3 * a + 1][b], _mm256_permute2f128_pd(t0, t2, 0x31));
+      _mm256_store_pd(&in.x[3 * a + 2][b], _mm256_permute2f128_pd(t1, t3, 0x31));
+    }
+    for (int row = 0; row < 3; ++row) { // constants j0 .. j0 + 3 of the four records
+      const int j0 = row == 2 ? 7 : 4 * row;
+      __m256d   r[4];
+      for (int i = 0; i < 4; ++i) r[i] = _mm256_loadu_pd(e[i].Xinv + j0);
+      const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+      const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+      const __m256d c0 = _mm256_permute2f128_pd(t0, t2, 0x20), c1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+      const __m256d c2 = _mm256_permute2f128_pd(t0, t2, 0x31), c3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+      if (row < 2) {
+        _mm256_store_pd(&in.Xi[j0][b], c0), _mm256_store_pd(&in.Xi[j0 + 1][b], c1);
+        _mm256_store_pd(&in.Xi[j0 + 2][b], c2), _mm256_store_pd(&in.Xi[j0 + 3][b], c3);
+      } else { // c0 is X^-1 7 again
+        _mm256_store_pd(&in.Xi[8][b], c1), _mm256_store_pd(in.V0 + b, c2), _mm256_store_pd(in.inv6V0 + b, c3);
+      }
+    }
+  }
+  GatherColumns(elems, b, nb, x, in);
+}
+#endif
+
+// Whether the processor has AVX2 for GatherAVX2, found once.
+const bool kGatherAVX2 = [] {
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") != 0;
+#else
+  return false;
+#endif
+}();
+
+// The next block's records (from i + kBlock on) asked for, so that they arrive while this
+// block computes: the hardware's own prefetch left the first touch of each record waiting on
+// memory (doc/performance.md, "The deformable step"). Two blocks ahead was slower.
+inline void PrefetchNextBlock(const TetElement *elems, std::size_t i, std::size_t count) {
+  const std::uintptr_t next = reinterpret_cast<std::uintptr_t>(elems + i) + kBlock * sizeof(TetElement), end = reinterpret_cast<std::uintptr_t>(elems + count);
+  for (std::size_t off = 0; off < kBlock * sizeof(TetElement); off += 64)
+    if (next + off < end) __builtin_prefetch(reinterpret_cast<const void *>(next + off));
+}
+
 template <class Model, bool Visc>
 __attribute__((target_clones("arch=x86-64-v3", "default"))) std::int64_t Batch(const TetElement *elems, std::size_t first, std::size_t count, const MaterialCoeffs &c,
                    const double *x, const double *v, double *f, std::size_t *done) {
@@ -207,15 +291,19 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) std::int64_t Batch(c
       // component-major so that the loop runs two elements per SSE2
       // instruction (the same operations per element as Core; an inverted
       // element's forces are computed from pre = 0 and dropped below)
-      alignas(16) double kx[12][kBlock], kI[kBlock], kc[9][kBlock], kA[9][kBlock], kX[9][kBlock], kJ[kBlock], kP[2][kBlock], kV[kBlock], fb[12][kBlock];
+      alignas(16) double kc[9][kBlock], kA[9][kBlock], kJ[kBlock], kP[2][kBlock], fb[12][kBlock];
+      BlockInputs in;
+      auto &kx = in.x;
+      auto &kX = in.Xi;
+      double *kI = in.inv6V0, *kV = in.V0;
+      PrefetchNextBlock(elems, i, count);
       // gather the corners (and the element constants) component-major
-      for (; nb < kBlock && i + nb < count && elems[i + nb].material == mat; ++nb) {
-        const TetElement &el = elems[i + nb];
-        for (int a = 0; a < 4; ++a)
-          for (int j = 0; j < 3; ++j) kx[3 * a + j][nb] = x[3 * el.n[a] + j];
-        for (int j = 0; j < 9; ++j) kX[j][nb] = el.Xinv[j];
-        kI[nb] = el.inv6V0, kV[nb] = el.V0;
-      }
+      while (nb < kBlock && i + nb < count && elems[i + nb].material == mat) ++nb;
+#if defined(__x86_64__)
+      if (kGatherAVX2) GatherAVX2(elems + i, nb, x, in);
+      else
+#endif
+        GatherColumns(elems + i, 0, nb, x, in);
       // kinematics as Kinematics(), two elements an instruction
       for (std::size_t b = 0; b < nb; ++b) {
         double X[12], C[9], A[9], detC;
