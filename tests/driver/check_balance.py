@@ -13,7 +13,8 @@ checks (each fails the test when not met; all bounds are relative):
   --at-rest F      kinetic(end) <= F * (gravity(0) - gravity(end))  (potential energy released)
   --final C,V,R    column C of the last row equals V within R * |V|  (e.g. strain,0.02,1e-3)
   --mean-after T,C,LO  the mean of column C over the rows at t >= T is at least LO"""
-import csv, math, os, subprocess, sys, tempfile
+import csv, math, os, subprocess, sys
+from scratch import scratch_dir
 
 args = sys.argv[1:]
 mpiexec, np, fdem, scene = args[:4]
@@ -28,7 +29,7 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 failures = []
 
 def run(more):
-    out = tempfile.mkdtemp(prefix="fdem_scene_")
+    out = scratch_dir("fdem_scene_")
     cmd = [mpiexec, "--oversubscribe", "-n", np, fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + extra + more
     print("$ " + " ".join(cmd), flush=True)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=1200, env=env)

@@ -19,13 +19,13 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
+from scratch import scratch_dir
 
 mpiexec, fdem, scene = sys.argv[1], sys.argv[2], sys.argv[3]
 speed, end, etol, ctol = float(sys.argv[4]), sys.argv[5], float(sys.argv[6]), int(sys.argv[7])
 ranks = [int(n) for n in sys.argv[8].split(",")]
 more = sys.argv[9:]
-root = tempfile.mkdtemp(prefix="fdem_fragmentation_")
+root = scratch_dir("fdem_fragmentation_")
 text = open(scene).read()
 text, n1 = re.subn(r"velocity: \[0, 0, -?[0-9.eE+-]+\]", f"velocity: [0, 0, {-speed!r}]", text)
 mesh = re.search(r"mesh: (\S+?\.msh)", text).group(1)

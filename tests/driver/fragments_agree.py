@@ -14,12 +14,12 @@ import csv
 import os
 import subprocess
 import sys
-import tempfile
+from scratch import scratch_dir
 
 mpiexec, fdem, scene = sys.argv[1], sys.argv[2], sys.argv[3]
 nmin, mass, tol = int(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6])
 more = sys.argv[7:]
-root = tempfile.mkdtemp(prefix="fdem_fragments_")
+root = scratch_dir("fdem_fragments_")
 rows, breaks = {}, {}
 for n in (1, 2):
     out = os.path.join(root, f"np{n}")

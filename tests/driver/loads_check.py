@@ -11,10 +11,10 @@ import csv
 import os
 import subprocess
 import sys
-import tempfile
+from scratch import scratch_dir
 
 mpiexec, np, fdem, scene = sys.argv[1:5]
-out = tempfile.mkdtemp(prefix="fdem_loads_")
+out = scratch_dir("fdem_loads_")
 cmd = [mpiexec, "--oversubscribe", "-n", np, fdem, scene, "-fdem_output", out, "-fdem_progress", "0"]
 print("$ " + " ".join(cmd), flush=True)
 r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)

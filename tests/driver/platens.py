@@ -8,9 +8,10 @@ closing at the same speed, and read the load on the platens from its loads.csv.
     platen (+z) and on the bottom one (-z), each less its own weight (its load at the first row,
     when nothing touches it yet); P = 0 at t = 0. The platens are the scene's bodies `top` and
     `bottom`, closing along z."""
-import csv, os, subprocess, sys, tempfile
+import csv, os, subprocess, sys
 
 import numpy as np
+from scratch import scratch_dir
 
 
 def RunScene(prefix):
@@ -21,7 +22,7 @@ def RunScene(prefix):
         i = rest.index("--")
         rest, extra = rest[:i], rest[i + 1:]
     opts = dict(zip(rest[0::2], rest[1::2]))
-    out = opts.get("--out") or tempfile.mkdtemp(prefix=prefix)
+    out = opts.get("--out") or scratch_dir(prefix)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
     cmd = [mpiexec, "--oversubscribe", "-n", nproc, fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + extra
     print("$ " + " ".join(cmd), flush=True)

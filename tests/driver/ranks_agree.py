@@ -10,13 +10,13 @@ import csv
 import os
 import subprocess
 import sys
-import tempfile
 
 from bodies_agree import compare
+from scratch import scratch_dir
 
 mpiexec, fdem, scene, tol = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 more = sys.argv[5:]
-root = tempfile.mkdtemp(prefix="fdem_ranks_")
+root = scratch_dir("fdem_ranks_")
 rows = {}
 for n in (1, 2):
     out = os.path.join(root, f"np{n}")

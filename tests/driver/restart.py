@@ -24,12 +24,13 @@ carried by the checkpoint).
      the end and ends bitwise equal to the straight run of that scene. The kill lands at any
      point of a step or of a checkpoint write (HDF5 file open, data, close, link, rename).
 usage: restart.py MPIEXEC NP FDEM SCENE"""
-import glob, os, random, signal, subprocess, sys, tempfile, time
+import glob, os, random, signal, subprocess, sys, time
+from scratch import scratch_dir
 
 mpiexec, np, fdem, scene = sys.argv[1:5]
 other = "2" if np == "1" else "1"
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
-root = tempfile.mkdtemp(prefix="fdem_restart_")
+root = scratch_dir("fdem_restart_")
 fail = []
 
 def run(n, out, more, expect_ok=True, scene=scene):

@@ -15,13 +15,13 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 
 from bodies_agree import compare
+from scratch import scratch_dir
 
 fdem, scene, tol, moving = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4])
 more = sys.argv[5:]
-root = tempfile.mkdtemp(prefix="fdem_search_")
+root = scratch_dir("fdem_search_")
 rows, searches = {}, {}
 for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer", "0"])):
     out = os.path.join(root, name.replace(" ", "_"))

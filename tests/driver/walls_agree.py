@@ -13,13 +13,13 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 
 from bodies_agree import compare
+from scratch import scratch_dir
 
 fdem, scene, res, tol = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 more = sys.argv[5:]
-root = tempfile.mkdtemp(prefix="fdem_walls_")
+root = scratch_dir("fdem_walls_")
 text = open(scene).read()
 fine, n = re.subn(r"(fixed: true,[^}\n]*?)(shape: \{box:)", r"\1resolution: " + res + r", \2", text)
 if n == 0 or "resolution:" in text:
