@@ -106,19 +106,53 @@ inline void NodalForces(const double *T, const double *A, const double *Xi, doub
   fe[0] = -s0, fe[1] = -s1, fe[2] = -s2;
 }
 
+// The velocity gradient L and the rate of deformation D = sym(L) (stored as T is) of an
+// element from its corners' velocities V = (v0, v1, v2, v3): with W = [v1-v0, v2-v0, v3-v0],
+// L = W Xref^-1 small-strain, else L = W C^-1 = W adj(C) / det C = Fdot F^-1 (eq 4.212).
+template <class Model>
+inline void VelocityGradient(const double *V, const double *A, double detC, const double *Xi, double *L, double *D) {
+  const double w00 = V[3] - V[0], w01 = V[6] - V[0], w02 = V[9] - V[0];
+  const double w10 = V[4] - V[1], w11 = V[7] - V[1], w12 = V[10] - V[1];
+  const double w20 = V[5] - V[2], w21 = V[8] - V[2], w22 = V[11] - V[2];
+  if constexpr (Model::kSmallStrain) {
+    (void)A, (void)detC;
+    L[0] = w00 * Xi[0] + w01 * Xi[3] + w02 * Xi[6];
+    L[1] = w00 * Xi[1] + w01 * Xi[4] + w02 * Xi[7];
+    L[2] = w00 * Xi[2] + w01 * Xi[5] + w02 * Xi[8];
+    L[3] = w10 * Xi[0] + w11 * Xi[3] + w12 * Xi[6];
+    L[4] = w10 * Xi[1] + w11 * Xi[4] + w12 * Xi[7];
+    L[5] = w10 * Xi[2] + w11 * Xi[5] + w12 * Xi[8];
+    L[6] = w20 * Xi[0] + w21 * Xi[3] + w22 * Xi[6];
+    L[7] = w20 * Xi[1] + w21 * Xi[4] + w22 * Xi[7];
+    L[8] = w20 * Xi[2] + w21 * Xi[5] + w22 * Xi[8];
+  } else {
+    (void)Xi;
+    const double id = 1.0 / detC;
+    L[0] = (w00 * A[0] + w01 * A[3] + w02 * A[6]) * id;
+    L[1] = (w00 * A[1] + w01 * A[4] + w02 * A[7]) * id;
+    L[2] = (w00 * A[2] + w01 * A[5] + w02 * A[8]) * id;
+    L[3] = (w10 * A[0] + w11 * A[3] + w12 * A[6]) * id;
+    L[4] = (w10 * A[1] + w11 * A[4] + w12 * A[7]) * id;
+    L[5] = (w10 * A[2] + w11 * A[5] + w12 * A[8]) * id;
+    L[6] = (w20 * A[0] + w21 * A[3] + w22 * A[6]) * id;
+    L[7] = (w20 * A[1] + w21 * A[4] + w22 * A[7]) * id;
+    L[8] = (w20 * A[2] + w21 * A[5] + w22 * A[8]) * id;
+  }
+  D[0] = L[0];
+  D[1] = L[4];
+  D[2] = L[8];
+  D[3] = 0.5 * (L[1] + L[3]);
+  D[4] = 0.5 * (L[5] + L[7]);
+  D[5] = 0.5 * (L[2] + L[6]);
+}
+
 // Status: 0 ok, 1 inverted and force skipped, 2 inverted but force computed.
 template <class Model, bool Visc, bool Diag>
 inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, const double *__restrict v,
                   double *__restrict T, double *__restrict fe, Extra *ex) {
-  const double c00 = k.c[0], c01 = k.c[1], c02 = k.c[2];
-  const double c10 = k.c[3], c11 = k.c[4], c12 = k.c[5];
-  const double c20 = k.c[6], c21 = k.c[7], c22 = k.c[8];
   const double *Xi = el.Xinv;
   double F[9];
   DeformationGradient(k.c, Xi, F);
-  const double A00 = k.A[0], A01 = k.A[1], A02 = k.A[2];
-  const double A10 = k.A[3], A11 = k.A[4], A12 = k.A[5];
-  const double A20 = k.A[6], A21 = k.A[7], A22 = k.A[8];
   const double detC = k.detC;
   const double J = k.J;
   int status = 0;
@@ -132,40 +166,10 @@ inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, c
   double D[6] = {0, 0, 0, 0, 0, 0};
   double L[9];
   if constexpr (Visc) {
-    const double *v0 = v + 3 * el.n[0], *v1 = v + 3 * el.n[1], *v2 = v + 3 * el.n[2], *v3 = v + 3 * el.n[3];
-    const double w00 = v1[0] - v0[0], w01 = v2[0] - v0[0], w02 = v3[0] - v0[0];
-    const double w10 = v1[1] - v0[1], w11 = v2[1] - v0[1], w12 = v3[1] - v0[1];
-    const double w20 = v1[2] - v0[2], w21 = v2[2] - v0[2], w22 = v3[2] - v0[2];
-    if constexpr (Model::kSmallStrain) {
-      // Fdot = W Xref^-1.
-      L[0] = w00 * Xi[0] + w01 * Xi[3] + w02 * Xi[6];
-      L[1] = w00 * Xi[1] + w01 * Xi[4] + w02 * Xi[7];
-      L[2] = w00 * Xi[2] + w01 * Xi[5] + w02 * Xi[8];
-      L[3] = w10 * Xi[0] + w11 * Xi[3] + w12 * Xi[6];
-      L[4] = w10 * Xi[1] + w11 * Xi[4] + w12 * Xi[7];
-      L[5] = w10 * Xi[2] + w11 * Xi[5] + w12 * Xi[8];
-      L[6] = w20 * Xi[0] + w21 * Xi[3] + w22 * Xi[6];
-      L[7] = w20 * Xi[1] + w21 * Xi[4] + w22 * Xi[7];
-      L[8] = w20 * Xi[2] + w21 * Xi[5] + w22 * Xi[8];
-    } else {
-      // L = W C^-1 = (W Xref^-1) F^-1 = Fdot F^-1 (eq 4.212).
-      const double id = 1.0 / detC;
-      L[0] = (w00 * A00 + w01 * A10 + w02 * A20) * id;
-      L[1] = (w00 * A01 + w01 * A11 + w02 * A21) * id;
-      L[2] = (w00 * A02 + w01 * A12 + w02 * A22) * id;
-      L[3] = (w10 * A00 + w11 * A10 + w12 * A20) * id;
-      L[4] = (w10 * A01 + w11 * A11 + w12 * A21) * id;
-      L[5] = (w10 * A02 + w11 * A12 + w12 * A22) * id;
-      L[6] = (w20 * A00 + w21 * A10 + w22 * A20) * id;
-      L[7] = (w20 * A01 + w21 * A11 + w22 * A21) * id;
-      L[8] = (w20 * A02 + w21 * A12 + w22 * A22) * id;
-    }
-    D[0] = L[0];
-    D[1] = L[4];
-    D[2] = L[8];
-    D[3] = 0.5 * (L[1] + L[3]);
-    D[4] = 0.5 * (L[5] + L[7]);
-    D[5] = 0.5 * (L[2] + L[6]);
+    double V[12];
+    for (int a = 0; a < 4; ++a)
+      for (int j = 0; j < 3; ++j) V[3 * a + j] = v[3 * el.n[a] + j];
+    VelocityGradient<Model>(V, k.A, detC, Xi, L, D);
   } else {
     (void)v;
     for (double &l : L) l = 0;
@@ -196,46 +200,57 @@ inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__r
 // element at a time).
 constexpr std::size_t kBlock = 16;
 
-// A block's inputs, component-major: corner a's coordinate k of element b at x[3 a + k][b],
-// the rows of X^-1, V0 and 1/(6 V0). Gathered from the element records and the node array.
+// A block's inputs, component-major: corner a's coordinate k of element b at x[3 a + k][b] (and
+// its velocity at v[3 a + k][b] when the material is viscous), the rows of X^-1, V0 and 1/(6 V0).
+// Gathered from the element records and the node arrays.
 struct BlockInputs {
-  alignas(32) double x[12][kBlock], Xi[9][kBlock], V0[kBlock], inv6V0[kBlock];
+  alignas(32) double x[12][kBlock], v[12][kBlock], Xi[9][kBlock], V0[kBlock], inv6V0[kBlock];
 };
 
-// Elements b0 .. nb - 1 of the block, one value at a time.
-void GatherColumns(const TetElement *elems, std::size_t b0, std::size_t nb, const double *x, BlockInputs &in) {
+// Elements b0 .. nb - 1 of the block, one value at a time (v: the node velocities, or nullptr).
+void GatherColumns(const TetElement *elems, std::size_t b0, std::size_t nb, const double *x, const double *v, BlockInputs &in) {
   for (std::size_t b = b0; b < nb; ++b) {
     const TetElement &el = elems[b];
     for (int a = 0; a < 4; ++a)
       for (int j = 0; j < 3; ++j) in.x[3 * a + j][b] = x[3 * el.n[a] + j];
+    if (v)
+      for (int a = 0; a < 4; ++a)
+        for (int j = 0; j < 3; ++j) in.v[3 * a + j][b] = v[3 * el.n[a] + j];
     for (int j = 0; j < 9; ++j) in.Xi[j][b] = el.Xinv[j];
     in.V0[b] = el.V0, in.inv6V0[b] = el.inv6V0;
   }
 }
 
 #if defined(__x86_64__)
-// Four elements at a time with AVX2: a node's coordinates are loaded as one 4-double row
-// (x[3n - 1 .. 3n + 2], its predecessor's z first, so that the load never reads past the
-// array's end; node 0 is built from scalars) and four such rows are transposed into the
-// component-major arrays; the constants likewise, from three 4-double rows of each record
-// (X^-1 0..3, 4..7, and X^-1 7, X^-1 8, V0, 1/(6V0)). The same values as GatherColumns.
-__attribute__((target("avx2"))) void GatherAVX2(const TetElement *elems, std::size_t nb, const double *x, BlockInputs &in) {
+// The corners of elements e[0..3] from the node array x into the columns b .. b + 3 of dst: a
+// node's three values loaded as one 4-double row (x[3n - 1 .. 3n + 2], its predecessor's z
+// first, so that the load never reads past the array's end; node 0 is built from scalars),
+// four such rows transposed.
+__attribute__((target("avx2"))) inline void CornersAVX2(const TetElement *e, const double *x, double (*dst)[kBlock], std::size_t b) {
+  for (int a = 0; a < 4; ++a) {
+    __m256d r[4];
+    for (int i = 0; i < 4; ++i) {
+      const int n = e[i].n[a];
+      r[i] = n > 0 ? _mm256_loadu_pd(x + 3 * n - 1) : _mm256_set_pd(x[2], x[1], x[0], 0.0);
+    }
+    const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]); // (-, -, y0, y1), (x0, x1, z0, z1)
+    const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+    _mm256_store_pd(&dst[3 * a][b], _mm256_permute2f128_pd(t1, t3, 0x20));
+    _mm256_store_pd(&dst[3 * a + 1][b], _mm256_permute2f128_pd(t0, t2, 0x31));
+    _mm256_store_pd(&dst[3 * a + 2][b], _mm256_permute2f128_pd(t1, t3, 0x31));
+  }
+}
+
+// Four elements at a time with AVX2: the corners (CornersAVX2) and the constants, from three
+// 4-double rows of each record (X^-1 0..3, 4..7, and X^-1 7, X^-1 8, V0, 1/(6V0)) transposed
+// likewise. The same values as GatherColumns.
+__attribute__((target("avx2"))) void GatherAVX2(const TetElement *elems, std::size_t nb, const double *x, const double *v, BlockInputs &in) {
   static_assert(offsetof(TetElement, inv6V0) == offsetof(TetElement, Xinv) + 10 * sizeof(double), "the record's constants in a row");
   std::size_t b = 0;
   for (; b + 4 <= nb; b += 4) {
     const TetElement *e = elems + b;
-    for (int a = 0; a < 4; ++a) {
-      __m256d r[4];
-      for (int i = 0; i < 4; ++i) {
-        const int n = e[i].n[a];
-        r[i] = n > 0 ? _mm256_loadu_pd(x + 3 * n - 1) : _mm256_set_pd(x[2], x[1], x[0], 0.0);
-      }
-      const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]); // (-, -, y0, y1), (x0, x1, z0, z1)
-      const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
-      _mm256_store_pd(&in.x[3 * a][b], _mm256_permute2f128_pd(t1, t3, 0x20));
-      _mm256_store_pd(&in.x[3 * a + 1][b], _mm256_permute2f128_pd(t0, t2, 0x31));
-      _mm256_store_pd(&in.x[3 * a + 2][b], _mm256_permute2f128_pd(t1, t3, 0x31));
-    }
+    CornersAVX2(e, x, in.x, b);
+    if (v) CornersAVX2(e, v, in.v, b);
     for (int row = 0; row < 3; ++row) { // constants j0 .. j0 + 3 of the four records
       const int j0 = row == 2 ? 7 : 4 * row;
       __m256d   r[4];
@@ -252,7 +267,7 @@ __attribute__((target("avx2"))) void GatherAVX2(const TetElement *elems, std::si
       }
     }
   }
-  GatherColumns(elems, b, nb, x, in);
+  GatherColumns(elems, b, nb, x, v, in);
 }
 #endif
 
@@ -294,79 +309,62 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) std::int64_t Batch(c
   std::int64_t bad = -1;
   const MaterialCoeffs cc = c;
   const int mat = count ? elems[0].material : 0;
-  Kin kin[kBlock];
   std::size_t i = 0;
   while (i < count) {
+    // kinematics of the block, then its stresses and forces with the data component-major so
+    // that the loops run several elements an instruction (the same operations per element as
+    // Core; an inverted element's forces are computed from pre = 0 and dropped below)
     std::size_t nb = 0;
-    if constexpr (!Visc) {
-      // kinematics of the block, then its stresses and forces with the data
-      // component-major so that the loop runs two elements per SSE2
-      // instruction (the same operations per element as Core; an inverted
-      // element's forces are computed from pre = 0 and dropped below)
-      alignas(16) double kc[9][kBlock], kA[9][kBlock], kJ[kBlock], kP[2][kBlock], fb[12][kBlock];
-      BlockInputs in;
-      auto &kx = in.x;
-      auto &kX = in.Xi;
-      double *kI = in.inv6V0, *kV = in.V0;
-      PrefetchNextBlock(elems, i, count);
-      // gather the corners (and the element constants) component-major
-      while (nb < kBlock && i + nb < count && elems[i + nb].material == mat) ++nb;
-#if defined(__x86_64__)
-      if (kGatherAVX2) GatherAVX2(elems + i, nb, x, in);
-      else
-#endif
-        GatherColumns(elems + i, 0, nb, x, in);
-      // kinematics as Kinematics(), two elements an instruction
-      for (std::size_t b = 0; b < nb; ++b) {
-        double X[12], C[9], A[9], detC;
-        for (int j = 0; j < 12; ++j) X[j] = kx[j][b];
-        EdgeMatrix(X, C, A, detC);
-        for (int j = 0; j < 9; ++j) kc[j][b] = C[j], kA[j][b] = A[j];
-        kJ[b] = detC * kI[b];
-      }
-      Model::PrepareBlock(kJ, kP[0], kP[1], nb); // inverted elements too: their forces are dropped
-      if (nb == 0) break;
-      for (std::size_t b = 0; b < nb; ++b) {
-        double C[9], A[9], Xi[9], pre[2] = {kP[0][b], kP[1][b]}, F[9], T[6], fe[12];
-        const double D[6] = {0, 0, 0, 0, 0, 0};
-        for (int j = 0; j < 9; ++j) C[j] = kc[j][b], A[j] = kA[j][b], Xi[j] = kX[j][b];
-        DeformationGradient(C, Xi, F);
-        Model::Stress(cc, F, kJ[b], pre, D, T);
-        NodalForces<Model>(T, A, Xi, kV[b], fe);
-        for (int j = 0; j < 12; ++j) fb[j][b] = fe[j];
-      }
-      for (std::size_t b = 0; b < nb; ++b) {
-        const TetElement &el = elems[i + b];
-        if (!(kJ[b] > 0)) {
-          if (bad < 0) bad = static_cast<std::int64_t>(first + i + b);
-          if (!Model::kSmallStrain) continue;
-        }
-        for (int a = 0; a < 4; ++a) {
-          double *fa = f + 3 * el.n[a];
-          fa[0] += fb[3 * a][b];
-          fa[1] += fb[3 * a + 1][b];
-          fa[2] += fb[3 * a + 2][b];
-        }
-      }
-      i += nb;
-      if (nb < kBlock && i < count && elems[i].material != mat) break;
-      continue;
-    }
-    for (; nb < kBlock && i + nb < count && elems[i + nb].material == mat; ++nb) Kinematics<Model>(elems[i + nb], x, kin[nb]);
+    alignas(16) double kc[9][kBlock], kA[9][kBlock], kd[kBlock], kJ[kBlock], kP[2][kBlock], fb[12][kBlock];
+    BlockInputs in;
+    auto &kx = in.x;
+    auto &kX = in.Xi;
+    double *kI = in.inv6V0, *kV = in.V0;
+    PrefetchNextBlock(elems, i, count);
+    // gather the corners (and the element constants) component-major
+    while (nb < kBlock && i + nb < count && elems[i + nb].material == mat) ++nb;
     if (nb == 0) break;
+    const double *vel = Visc ? v : nullptr;
+#if defined(__x86_64__)
+    if (kGatherAVX2) GatherAVX2(elems + i, nb, x, vel, in);
+    else
+#endif
+      GatherColumns(elems + i, 0, nb, x, vel, in);
+    // kinematics as Kinematics()
+    for (std::size_t b = 0; b < nb; ++b) {
+      double X[12], C[9], A[9], detC;
+      for (int j = 0; j < 12; ++j) X[j] = kx[j][b];
+      EdgeMatrix(X, C, A, detC);
+      for (int j = 0; j < 9; ++j) kc[j][b] = C[j], kA[j][b] = A[j];
+      kd[b] = detC;
+      kJ[b] = detC * kI[b];
+    }
+    Model::PrepareBlock(kJ, kP[0], kP[1], nb); // inverted elements too: their forces are dropped
+    for (std::size_t b = 0; b < nb; ++b) {
+      double C[9], A[9], Xi[9], pre[2] = {kP[0][b], kP[1][b]}, F[9], T[6], fe[12];
+      double D[6] = {0, 0, 0, 0, 0, 0};
+      for (int j = 0; j < 9; ++j) C[j] = kc[j][b], A[j] = kA[j][b], Xi[j] = kX[j][b];
+      DeformationGradient(C, Xi, F);
+      if constexpr (Visc) {
+        double V[12], L[9];
+        for (int j = 0; j < 12; ++j) V[j] = in.v[j][b];
+        VelocityGradient<Model>(V, A, kd[b], Xi, L, D);
+      }
+      Model::Stress(cc, F, kJ[b], pre, D, T);
+      NodalForces<Model>(T, A, Xi, kV[b], fe);
+      for (int j = 0; j < 12; ++j) fb[j][b] = fe[j];
+    }
     for (std::size_t b = 0; b < nb; ++b) {
       const TetElement &el = elems[i + b];
-      double T[6], fe[12];
-      const int st = Forces<Model, Visc, false>(el, cc, kin[b], v, T, fe, nullptr);
-      if (st != 0) {
+      if (!(kJ[b] > 0)) {
         if (bad < 0) bad = static_cast<std::int64_t>(first + i + b);
-        if (st == 1) continue;
+        if (!Model::kSmallStrain) continue;
       }
       for (int a = 0; a < 4; ++a) {
         double *fa = f + 3 * el.n[a];
-        fa[0] += fe[3 * a];
-        fa[1] += fe[3 * a + 1];
-        fa[2] += fe[3 * a + 2];
+        fa[0] += fb[3 * a][b];
+        fa[1] += fb[3 * a + 1][b];
+        fa[2] += fb[3 * a + 2][b];
       }
     }
     i += nb;
