@@ -339,9 +339,9 @@ TEST(CST, BatchedKernelEqualsElementSumAcrossMaterialsAndRanges) {
   std::vector<double> x, v;
   for (const auto &p : mesh.nodes) x.insert(x.end(), {p.x + u(rng), p.y + u(rng), p.z + u(rng)});
   for (std::size_t i = 0; i < x.size(); ++i) v.push_back(10 * u(rng));
-  // with velocities (the viscous loop) and without (the blocked loop: its gathers, four elements
-  // at a time where the processor has AVX2 and one at a time in runs shorter than four, node 0
-  // included)
+  // with velocities and without, both through the blocked loop: its gathers (four elements at a
+  // time where the processor has AVX2, one at a time in runs shorter than four, node 0 included)
+  // and the velocity gradient of the viscous materials
   for (const double *vel : {static_cast<const double *>(v.data()), static_cast<const double *>(nullptr)}) {
     SCOPED_TRACE(vel ? "with velocities" : "without velocities");
     std::vector<double> f(x.size(), 0.0), g(x.size(), 0.0), h(x.size(), 0.0);
