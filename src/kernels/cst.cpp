@@ -64,21 +64,24 @@ inline void Kinematics(const TetElement &el, const double *__restrict x, Kin &k)
   if (Model::kSmallStrain || k.J > 0) Model::Prepare(k.J, k.pre);
 }
 
-// F = C Xref^-1 (eqs 4.209-4.211); C and Xi row-major.
-inline void DeformationGradient(const double *C, const double *Xi, double *F) {
-  const double c00 = C[0], c01 = C[1], c02 = C[2];
-  const double c10 = C[3], c11 = C[4], c12 = C[5];
-  const double c20 = C[6], c21 = C[7], c22 = C[8];
-  F[0] = c00 * Xi[0] + c01 * Xi[3] + c02 * Xi[6];
-  F[1] = c00 * Xi[1] + c01 * Xi[4] + c02 * Xi[7];
-  F[2] = c00 * Xi[2] + c01 * Xi[5] + c02 * Xi[8];
-  F[3] = c10 * Xi[0] + c11 * Xi[3] + c12 * Xi[6];
-  F[4] = c10 * Xi[1] + c11 * Xi[4] + c12 * Xi[7];
-  F[5] = c10 * Xi[2] + c11 * Xi[5] + c12 * Xi[8];
-  F[6] = c20 * Xi[0] + c21 * Xi[3] + c22 * Xi[6];
-  F[7] = c20 * Xi[1] + c21 * Xi[4] + c22 * Xi[7];
-  F[8] = c20 * Xi[2] + c21 * Xi[5] + c22 * Xi[8];
+// R = P Q, all three 3x3 and row-major.
+inline void Product33(const double *P, const double *Q, double *R) {
+  const double p00 = P[0], p01 = P[1], p02 = P[2];
+  const double p10 = P[3], p11 = P[4], p12 = P[5];
+  const double p20 = P[6], p21 = P[7], p22 = P[8];
+  R[0] = p00 * Q[0] + p01 * Q[3] + p02 * Q[6];
+  R[1] = p00 * Q[1] + p01 * Q[4] + p02 * Q[7];
+  R[2] = p00 * Q[2] + p01 * Q[5] + p02 * Q[8];
+  R[3] = p10 * Q[0] + p11 * Q[3] + p12 * Q[6];
+  R[4] = p10 * Q[1] + p11 * Q[4] + p12 * Q[7];
+  R[5] = p10 * Q[2] + p11 * Q[5] + p12 * Q[8];
+  R[6] = p20 * Q[0] + p21 * Q[3] + p22 * Q[6];
+  R[7] = p20 * Q[1] + p21 * Q[4] + p22 * Q[7];
+  R[8] = p20 * Q[2] + p21 * Q[5] + p22 * Q[8];
 }
+
+// F = C Xref^-1 (eqs 4.209-4.211); C and Xi row-major.
+inline void DeformationGradient(const double *C, const double *Xi, double *F) { Product33(C, Xi, F); }
 
 // Nodal forces f_a = -vol T grad N_a (eq 4.221 with the 1/3 face split:
 // equals T a_a / 3, a_a the outward area vector of the face opposite a);
@@ -111,32 +114,15 @@ inline void NodalForces(const double *T, const double *A, const double *Xi, doub
 // L = W Xref^-1 small-strain, else L = W C^-1 = W adj(C) / det C = Fdot F^-1 (eq 4.212).
 template <class Model>
 inline void VelocityGradient(const double *V, const double *A, double detC, const double *Xi, double *L, double *D) {
-  const double w00 = V[3] - V[0], w01 = V[6] - V[0], w02 = V[9] - V[0];
-  const double w10 = V[4] - V[1], w11 = V[7] - V[1], w12 = V[10] - V[1];
-  const double w20 = V[5] - V[2], w21 = V[8] - V[2], w22 = V[11] - V[2];
+  const double W[9] = {V[3] - V[0], V[6] - V[0], V[9] - V[0], V[4] - V[1], V[7] - V[1], V[10] - V[1], V[5] - V[2], V[8] - V[2], V[11] - V[2]};
   if constexpr (Model::kSmallStrain) {
     (void)A, (void)detC;
-    L[0] = w00 * Xi[0] + w01 * Xi[3] + w02 * Xi[6];
-    L[1] = w00 * Xi[1] + w01 * Xi[4] + w02 * Xi[7];
-    L[2] = w00 * Xi[2] + w01 * Xi[5] + w02 * Xi[8];
-    L[3] = w10 * Xi[0] + w11 * Xi[3] + w12 * Xi[6];
-    L[4] = w10 * Xi[1] + w11 * Xi[4] + w12 * Xi[7];
-    L[5] = w10 * Xi[2] + w11 * Xi[5] + w12 * Xi[8];
-    L[6] = w20 * Xi[0] + w21 * Xi[3] + w22 * Xi[6];
-    L[7] = w20 * Xi[1] + w21 * Xi[4] + w22 * Xi[7];
-    L[8] = w20 * Xi[2] + w21 * Xi[5] + w22 * Xi[8];
+    Product33(W, Xi, L);
   } else {
     (void)Xi;
+    Product33(W, A, L);
     const double id = 1.0 / detC;
-    L[0] = (w00 * A[0] + w01 * A[3] + w02 * A[6]) * id;
-    L[1] = (w00 * A[1] + w01 * A[4] + w02 * A[7]) * id;
-    L[2] = (w00 * A[2] + w01 * A[5] + w02 * A[8]) * id;
-    L[3] = (w10 * A[0] + w11 * A[3] + w12 * A[6]) * id;
-    L[4] = (w10 * A[1] + w11 * A[4] + w12 * A[7]) * id;
-    L[5] = (w10 * A[2] + w11 * A[5] + w12 * A[8]) * id;
-    L[6] = (w20 * A[0] + w21 * A[3] + w22 * A[6]) * id;
-    L[7] = (w20 * A[1] + w21 * A[4] + w22 * A[7]) * id;
-    L[8] = (w20 * A[2] + w21 * A[5] + w22 * A[8]) * id;
+    for (int k = 0; k < 9; ++k) L[k] *= id;
   }
   D[0] = L[0];
   D[1] = L[4];
