@@ -20,7 +20,7 @@ namespace fdem::kernels {
 // materials/table.hpp; symmetric tensors are stored as (xx, yy, zz, xy, yz, xz).
 namespace {
 
-// Diagnostics written by Core when requested.
+// Diagnostics written by Core.
 struct Extra {
   double F[9], L[9], D[6], J;
 };
@@ -29,8 +29,8 @@ struct Extra {
 // C = [x1-x0, x2-x0, x3-x0] (row-major), its adjugate A (C^-1 = A / det C;
 // row a of C^-1 is grad N_{a+1}, current), det C, J = det F and the model's
 // scalar functions of J (Model::Prepare, when J > 0 or the model is
-// small-strain). The batched loop computes it for a block of elements before
-// the stresses, so that the cube roots of the block overlap.
+// small-strain). The one-element path (Core) keeps it; the batched loop makes
+// the same values a block at a time.
 struct Kin {
   double c[9], A[9], detC, J, pre[2];
 };
@@ -133,7 +133,7 @@ inline void VelocityGradient(const double *V, const double *A, double detC, cons
 }
 
 // Status: 0 ok, 1 inverted and force skipped, 2 inverted but force computed.
-template <class Model, bool Visc, bool Diag>
+template <class Model, bool Visc>
 inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, const double *__restrict v,
                   double *__restrict T, double *__restrict fe, Extra *ex) {
   const double *Xi = el.Xinv;
@@ -144,7 +144,7 @@ inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, c
   int status = 0;
   if (!(J > 0)) {
     if constexpr (!Model::kSmallStrain) {
-      if constexpr (Diag) ex->J = J;
+      ex->J = J;
       return 1;
     }
     status = 2;
@@ -161,22 +161,20 @@ inline int Forces(const TetElement &el, const MaterialCoeffs &c, const Kin &k, c
     for (double &l : L) l = 0;
   }
   Model::Stress(c, F, J, k.pre, D, T);
-  if constexpr (Diag) {
-    for (int i = 0; i < 9; ++i) ex->F[i] = F[i], ex->L[i] = L[i];
-    for (int i = 0; i < 6; ++i) ex->D[i] = D[i];
-    ex->J = J;
-  }
+  for (int i = 0; i < 9; ++i) ex->F[i] = F[i], ex->L[i] = L[i];
+  for (int i = 0; i < 6; ++i) ex->D[i] = D[i];
+  ex->J = J;
   NodalForces<Model>(T, k.A, Xi, el.V0, fe);
   return status;
 }
 
 // One element, kinematics and forces (diagnostics: EvaluateTet).
-template <class Model, bool Visc, bool Diag>
+template <class Model, bool Visc>
 inline int Core(const TetElement &el, const MaterialCoeffs &c, const double *__restrict x, const double *__restrict v,
                 double *__restrict T, double *__restrict fe, Extra *ex) {
   Kin k;
   Kinematics<Model>(el, x, k);
-  return Forces<Model, Visc, Diag>(el, c, k, v, T, fe, ex);
+  return Forces<Model, Visc>(el, c, k, v, T, fe, ex);
 }
 
 // Elements of one material from elems[0] on, in blocks of kBlock: the
@@ -389,7 +387,7 @@ template <class Model>
 bool EvaluateOne(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, TetState &out) {
   double T[6] = {0, 0, 0, 0, 0, 0}, fe[12] = {0};
   Extra ex{};
-  const int st = v ? Core<Model, true, true>(el, c, x, v, T, fe, &ex) : Core<Model, false, true>(el, c, x, v, T, fe, &ex);
+  const int st = v ? Core<Model, true>(el, c, x, v, T, fe, &ex) : Core<Model, false>(el, c, x, v, T, fe, &ex);
   return ToTetState(T, fe, ex, st, out);
 }
 
