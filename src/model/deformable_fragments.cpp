@@ -12,11 +12,10 @@
 // an intact joint). Every class carries a label, the smallest global id known to be in it.
 // The classes that reach other ranks are completed in a fixed number of steps: one exchange
 // of labels over the joint SF (triangle b's to the joint's rank) for the intact joints that
-// straddle two ranks, and
-// over a second SF for the nodes that cells of a body share across ranks (built by a
-// rendezvous on each node's id), links each class at a rank boundary to the classes it
-// touches elsewhere; rank 0 gathers these links (two labels each) and the boundary classes'
-// flags, joins them with a union-find and sends every class back its component's smallest
+// straddle two ranks, and over a second SF for the nodes that cells of a body share across
+// ranks (built by a rendezvous on each node's id), links each class at a rank boundary to the
+// classes it touches elsewhere; rank 0 gathers these links (two labels each) and the boundary
+// classes' flags, joins them with a union-find and sends every class back its component's smallest
 // label and flag. So every class ends with the smallest id in it, a fragment's id the same
 // on any number of ranks. FDEMDeformableGetLocalFragments sums each fragment's mass, momentum and cells where
 // its cells are and meets the sums at the rank id % size (a rendezvous), so each rank holds
