@@ -89,6 +89,15 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, co
    into fragments (FDEMDeformableGetFragments). The joints' energy: GetJointEnergy;
    their state in checkpoints: View/LoadJointState. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm, const char *material, PetscReal tensile_strength, PetscReal cohesion, PetscReal friction_angle, PetscReal GI, PetscReal GII, PetscReal joint_penalty);
+/* Limits the split of a fracturable body to a zone, the box [lo, hi] in the input mesh's
+   coordinates (doc/fracture.md, "Fracture zones"). A body with zones gets nodes of its own
+   and joints only at the tetrahedra whose centroids lie in one of them (calls add zones:
+   their union); every face such a tetrahedron shares with another of the body is a joint,
+   also with a tetrahedron outside, which keeps the body's shared nodes. Elsewhere the body
+   is as if not fracturable: no joints, no artificial compliance, no cost. A body without
+   zones is split everywhere. At set-up, a zone on a body whose material is not fracturable,
+   or that holds the centroid of none of the body's tetrahedra, is an error naming the body. */
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable dfm, const char *body, const PetscReal lo[3], const PetscReal hi[3]);
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at

@@ -73,9 +73,11 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     const bool frac = t && t->fracturable[A.body[e]];
     char       surf = A.surf[e];
     bool       on;
-    if (frac) {
-      surf = (char)(t->cell_free[e] & 0xF);
+    if (frac) { // a split cell's faces are all boundary faces of the mesh (A.surf 0xF)
+      surf = (char)(t->cell_free[e] & 0xF & surf);
       on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10)) || (damaged_cells_ && (t->cell_free[e] & 0x20));
+      if (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x40)) // unsplit, in a body with fracture zones
+        for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
     } else {
       on = surf != 0;
       if (which_ == Cells::BoundaryVertex)

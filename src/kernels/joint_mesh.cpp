@@ -104,19 +104,22 @@ void CheckConforming(const TetMesh &mesh, const std::vector<TetFace> &faces, con
 }
 } // namespace
 
-SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body) {
+SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body, const std::vector<char> &split_tet) {
   if (static_cast<int>(split_body.size()) != mesh.NumBodies())
     throw InputError("SplitForJoints: " + std::to_string(split_body.size()) + " split flags for " +
                      std::to_string(mesh.NumBodies()) + " bodies");
   const int nt = static_cast<int>(mesh.tets.size());
-  auto split = [&](int t) { return split_body[mesh.body[t]] != 0; };
+  if (!split_tet.empty() && static_cast<int>(split_tet.size()) != nt)
+    throw InputError("SplitForJoints: " + std::to_string(split_tet.size()) + " tetrahedron flags for " + std::to_string(nt) + " tetrahedra");
+  auto fracturable = [&](int t) { return split_body[mesh.body[t]] != 0; };
+  auto split       = [&](int t) { return fracturable(t) && (split_tet.empty() || split_tet[t] != 0); };
   SplitMesh s;
   s.mesh.body = mesh.body;
   s.mesh.body_names = mesh.body_names;
   s.mesh.tet_line = mesh.tet_line;
   s.mesh.warnings = mesh.warnings;
   s.mesh.tets.resize(nt);
-  std::vector<int> kept(mesh.nodes.size(), -1); // new id of a node of an unsplit body
+  std::vector<int> kept(mesh.nodes.size(), -1); // new id of a node of an unsplit tetrahedron
   auto add = [&](int old) {
     s.mesh.nodes.push_back(mesh.nodes[old]);
     s.parent.push_back(old);
@@ -131,15 +134,16 @@ SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_bod
         s.mesh.tets[t][j] = kept[old];
       }
     }
-  // joints: faces held by exactly two split tetrahedra of one body
+  // joints: faces held by exactly two tetrahedra of one fracturable body, one of them split
+  // at least (triangle a on a split one, so that a joint's side a has nodes of its own)
   const std::vector<TetFace> faces = SortedFaces(mesh.tets);
   CheckConforming(mesh, faces, split_body);
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-    const TetFace &A = faces[i];
-    if (j - i == 2 && split(A.tet) && split(faces[i + 1].tet) && mesh.body[A.tet] == mesh.body[faces[i + 1].tet]) {
-      const TetFace &B = faces[i + 1];
+    if (j - i == 2 && fracturable(faces[i].tet) && mesh.body[faces[i].tet] == mesh.body[faces[i + 1].tet] && (split(faces[i].tet) || split(faces[i + 1].tet))) {
+      const bool     swap = !split(faces[i].tet);
+      const TetFace &A = faces[i + (swap ? 1 : 0)], &B = faces[i + (swap ? 0 : 1)];
       JointFace jf;
       jf.tet_a = A.tet;
       jf.tet_b = B.tet;

@@ -245,46 +245,43 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   const PetscInt nbodies = (PetscInt)t.fracturable.size();
   const auto     frac    = [&](PetscInt e) { return t.fracturable[d->ed.body[e]] != 0; };
   const auto     node    = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
-  // the cell of each node of a fracturable body (a split node has one) and its place in it
-  std::vector<PetscInt> node_cell(nl, -1), node_slot(nl, -1);
+  // Nodes shared across ranks (a body that is not fracturable, or the unsplit part of a body
+  // with fracture zones; a split node has one cell, on one rank). A cell is split when none
+  // of its nodes is another cell's, here or elsewhere.
+  const bool        sharing = d->size > 1 && (d->zoned || std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end());
+  std::vector<char> shared(nl, 0);
+  if (sharing) PetscCall(SharedNodes(d, shared));
+  std::vector<int> uses(nl, 0);
   for (PetscInt e = 0; e < nc; ++e)
-    if (frac(e))
-      for (int a = 0; a < 4; ++a) node_cell[node(e, a)] = e, node_slot[node(e, a)] = a;
-  std::vector<PetscInt> ca(nj); // each joint's tetrahedron a
-  for (PetscInt j = 0; j < nj; ++j) {
-    ca[j] = node_cell[d->jnode_a[j][0]];
-    PetscCheck(ca[j] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node in no fracturable cell", d->jgid[j]);
-  }
-  // 1. Free faces and broken joints. Over the joint SF each joint's rank learns the places of
-  //    triangle b's nodes in tetrahedron b and that tetrahedron's id; back over it, the rank of
-  //    tetrahedron b learns, at the node that stands for the face (node (o + 1) % 4 for the face
-  //    opposite node o; one face per node), whether an intact joint glues it (kGlued) or a broken
+    for (int a = 0; a < 4; ++a) ++uses[node(e, a)];
+  const auto split = [&](PetscInt e) {
+    bool lone = frac(e);
+    for (int a = 0; a < 4 && lone; ++a) lone = uses[node(e, a)] == 1 && !shared[node(e, a)];
+    return lone;
+  };
+  const auto &ca = d->jcell_a; // each joint's tetrahedron a (split: its nodes are its own)
+  // 1. Free faces and broken joints. Over the joint-face SF (jfsf) the rank of tetrahedron b
+  //    learns, at the face a joint glues, whether an intact joint glues it (kGlued) or a broken
   //    one held by another rank faced tetrahedron a (that cell's id; a broken joint within the
-  //    rank is listed once, by its own rank), and which of its nodes are glued to another rank.
+  //    rank is listed once, by its own rank), whether the joint is intact and held by another
+  //    rank (the face's nodes and its cell are then at a rank boundary), and whether the joint
+  //    is damaged.
   std::vector<unsigned char>           freef(nc, 0), damaged(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
-  std::vector<PetscInt>                root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
+  std::vector<PetscInt>                froot(12 * (std::size_t)nc), fleaf(3 * (std::size_t)nj), root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
   for (PetscInt e = 0; e < nc; ++e)
-    if (frac(e)) freef[e] = 0xF;
-  if (d->jsf) {
-    for (PetscInt l = 0; l < nl; ++l) {
-      root[3 * l]     = node_slot[l];
-      root[3 * l + 1] = node_cell[l] >= 0 ? d->cell_gid[node_cell[l]] : -1;
-      root[3 * l + 2] = 0;
-    }
-    PetscCall(PetscSFBcastBegin(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(d->jsf, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    if (frac(e)) freef[e] = 0xF; // for an unsplit cell, its faces not glued; the contact adapter keeps those on the body's surface
+  if (d->jfsf) {
     for (PetscInt j = 0; j < nj; ++j) {
-      PetscInt *L      = &leaf[9 * (std::size_t)j];
       const bool broken = fdem::kernels::JointBroken(d->jstate[j].data()), remote = d->jnode_b[j][0] < 0, hurt = JointDamaged(d->jstate[j]);
-      int        oa = 6, ob = 6, slot[3];
-      for (int i = 0; i < 3; ++i) {
-        oa -= (int)node_slot[d->jnode_a[j][i]];
-        ob -= slot[i] = (int)L[3 * i];
-        PetscCheck(slot[i] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DeformableFractureTopology: joint %" PetscInt_FMT " has a node of triangle b in no fracturable cell", d->jgid[j]);
+      int        oa     = -1;
+      for (int a = 0; a < 4; ++a) {
+        bool in = false;
+        for (int i = 0; i < 3; ++i) in = in || node(ca[j], a) == d->jnode_a[j][i];
+        if (!in) oa = a;
       }
-      const PetscInt gb = L[1];
+      const PetscInt gb = d->jtet_b[j][0];
       if (hurt) damaged[ca[j]] = 1;
       if (broken) pairs.push_back({std::min(d->cell_gid[ca[j]], gb), std::max(d->cell_gid[ca[j]], gb)});
       else freef[ca[j]] &= (unsigned char)~(1u << oa);
@@ -293,40 +290,42 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         cbnd.push_back(ca[j]);
         remote_j.push_back(j);
       }
-      for (int i = 0; i < 3; ++i) {
-        L[3 * i]     = slot[i] == (ob + 1) % 4 && !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
-        L[3 * i + 1] = !broken && remote ? 1 : kNoFace;
-        L[3 * i + 2] = slot[i] == (ob + 1) % 4 && hurt ? 1 : kNoFace; // tetrahedron b has a damaged joint face
-      }
+      fleaf[3 * j]     = !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
+      fleaf[3 * j + 1] = !broken && remote ? 1 : kNoFace;
+      fleaf[3 * j + 2] = hurt ? 1 : kNoFace; // tetrahedron b has a damaged joint face
     }
-    std::fill(root.begin(), root.end(), kNoFace);
-    PetscCall(PetscSFReduceBegin(d->jsf, MPIU_INT, leaf.data(), root.data(), MPI_MAX));
-    PetscCall(PetscSFReduceEnd(d->jsf, MPIU_INT, leaf.data(), root.data(), MPI_MAX));
+    std::fill(froot.begin(), froot.end(), kNoFace);
+    PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), froot.data(), MPI_MAX));
+    PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), froot.data(), MPI_MAX));
     for (PetscInt e = 0; e < nc; ++e)
-      if (frac(e))
-        for (int o = 0; o < 4; ++o) {
-          const PetscInt v = root[3 * node(e, (o + 1) % 4)];
-          if (v == kGlued) freef[e] &= (unsigned char)~(1u << o);
-          else if (v >= 0) pairs.push_back({std::min(v, d->cell_gid[e]), std::max(v, d->cell_gid[e])});
+      for (int o = 0; o < 4; ++o) {
+        const PetscInt *F = &froot[12 * e + 3 * o];
+        if (F[0] == kGlued) freef[e] &= (unsigned char)~(1u << o);
+        else if (F[0] >= 0) pairs.push_back({std::min(F[0], d->cell_gid[e]), std::max(F[0], d->cell_gid[e])});
+        if (F[1] == 1) {
+          cbnd.push_back(e);
+          for (int q = 0; q < 4; ++q)
+            if (q != o) remote_b.push_back(node(e, q));
         }
-    for (PetscInt l = 0; l < nl; ++l) {
-      if (root[3 * l + 1] == 1) remote_b.push_back(l), cbnd.push_back(node_cell[l]);
-      if (root[3 * l + 2] == 1) damaged[node_cell[l]] = 1;
-    }
+        if (F[2] == 1) damaged[e] = 1;
+      }
+    std::sort(remote_b.begin(), remote_b.end());
+    remote_b.erase(std::unique(remote_b.begin(), remote_b.end()), remote_b.end());
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
   std::sort(pairs.begin(), pairs.end());
-  // 2. This rank's classes: node keys (the nodes of free faces flagged) and fragments.
+  // 2. This rank's classes: node keys (the nodes of a split cell's free faces flagged) and fragments.
   Classes nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
   for (PetscInt e = 0; e < nc; ++e)
-    for (int o = 0; o < 4; ++o)
-      if (freef[e] >> o & 1)
-        for (int q = 0; q < 4; ++q)
-          if (q != o) nodes.flag[node(e, q)] = 1;
+    if (split(e))
+      for (int o = 0; o < 4; ++o)
+        if (freef[e] >> o & 1)
+          for (int q = 0; q < 4; ++q)
+            if (q != o) nodes.flag[node(e, q)] = 1;
   {
     std::unordered_map<long long, PetscInt> first; // cells of one body sharing a node (a split node has one cell)
     for (PetscInt e = 0; e < nc; ++e)
-      if (!frac(e))
+      if (!split(e))
         for (int a = 0; a < 4; ++a) {
           const auto it = first.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
           if (!it.second) cells.Unite(it.first->second, e);
@@ -335,20 +334,17 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   for (PetscInt j = 0; j < nj; ++j)
     if (d->jnode_b[j][0] >= 0 && !fdem::kernels::JointBroken(d->jstate[j].data())) {
       for (int i = 0; i < 3; ++i) nodes.Unite(d->jnode_a[j][i], d->jnode_b[j][i]);
-      cells.Unite(ca[j], node_cell[d->jnode_b[j][0]]);
+      cells.Unite(ca[j], d->jtet_b[j][2]);
     }
-  // 3. Nodes that cells of a body (not fracturable: a split node is on one rank) share with
-  //    other ranks: one root per (node id, body) on the rank node id % size.
+  // 3. Nodes that cells share with other ranks (a split node is on one rank): one root per
+  //    (node id, body) on the rank node id % size.
   PetscSF               vsf = nullptr;
   std::vector<PetscInt> vcell; // a cell of the body at the node, per leaf
-  if (d->size > 1 && std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end()) {
-    std::vector<char> shared;
-    PetscCall(SharedNodes(d, shared));
+  if (sharing) {
     std::vector<std::array<PetscInt, 3>> k;
     for (PetscInt e = 0; e < nc; ++e)
-      if (!frac(e))
-        for (int a = 0; a < 4; ++a)
-          if (shared[node(e, a)]) k.push_back({d->node_gid[node(e, a)], d->ed.body[e], e});
+      for (int a = 0; a < 4; ++a)
+        if (shared[node(e, a)]) k.push_back({d->node_gid[node(e, a)], d->ed.body[e], e});
     std::sort(k.begin(), k.end());
     std::vector<std::array<PetscInt, 2>> keys;
     for (std::size_t i = 0; i < k.size(); ++i)
@@ -362,12 +358,15 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    number of steps whatever the shape of the fragments.
   std::vector<std::array<PetscInt, 2>> nedges, cedges; // (label here, label elsewhere)
   if (d->jsf_remote) { // triangle b's labels to the joint's rank: a link per straddling intact joint (rank 0 joins both ways)
-    for (PetscInt l : remote_b) root[3 * l] = nodes.Label(l), root[3 * l + 1] = cells.Label(node_cell[l]);
+    for (PetscInt l : remote_b) root[3 * l] = nodes.Label(l);
+    for (PetscInt e = 0; e < nc; ++e) froot[12 * e] = froot[12 * e + 3] = froot[12 * e + 6] = froot[12 * e + 9] = cells.Label(e);
     PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastBegin(d->jfsf, MPIU_INT, froot.data(), fleaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(d->jfsf, MPIU_INT, froot.data(), fleaf.data(), MPI_REPLACE));
     for (PetscInt j : remote_j) {
       for (int i = 0; i < 3; ++i) nedges.push_back({nodes.Label(d->jnode_a[j][i]), leaf[9 * j + 3 * i]});
-      cedges.push_back({cells.Label(ca[j]), leaf[9 * j + 1]});
+      cedges.push_back({cells.Label(ca[j]), fleaf[3 * j]});
     }
   }
   if (vsf) { // the smallest label of every shared (node, body) to the cells that share it
@@ -402,7 +401,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       t.cell_key[4 * e + a] = nodes.Label(node(e, a));
       onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
     }
-    t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0));
+    t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0));
     t.cell_fragment[e] = cells.Label(e);
   }
   PetscFunctionReturn(0);

@@ -30,9 +30,12 @@ struct FractureTopology {
   std::vector<PetscInt>                cell_fragment;  // per local cell (FDEMDeformableGetLocalCells order): its fragment's id, the smallest cell id in the connected component over shared nodes and intact joints (the same on any number of ranks)
   std::vector<char>                    fracturable;    // per body: 1 if fracturable (every rank)
   // per local cell of a fracturable body (0 elsewhere): bit o set when the face opposite
-  // node o is free (on the body's outer surface or on a broken joint); bit 4 set when a
-  // vertex lies on the free surface (its key is that of a node of a free face); bit 5 set
-  // when a face of the cell is a damaged joint (a point beyond its peak, or broken)
+  // node o is free (on the body's outer surface or on a broken joint; for an unsplit cell,
+  // bit 6 set, in a body with fracture zones: when it is not glued by an intact joint,
+  // which includes the faces it shares with unsplit cells, so the surface is these bits
+  // and the mesh's boundary faces); bit 4 set when a vertex lies on the free surface of a
+  // split cell (its key is that of a node of such a face); bit 5 set when a face of the
+  // cell is a damaged joint (a point beyond its peak, or broken)
   std::vector<unsigned char>           cell_free;
   // 4 per local cell: the key of each node, the smallest split-mesh id among the copies of
   // its input node glued to it through intact joints (its own id outside fracturable bodies)

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cmath>
 #include <string>
+#include <unordered_map>
 
 using namespace fdem::model::deformable;
 using fdem::kernels::JointLaw;
@@ -32,8 +33,37 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   std::vector<char> split(mob.size(), 0);
   bool              any = false;
   for (std::size_t b = 0; b < mob.size(); ++b) any |= (split[b] = d->fracture.count(d->materials[mob[b]].name) > 0);
+  // fracture zones: a body with zones is split only at the tetrahedra whose centroids lie in one
+  std::vector<char> in_zone;
+  for (const auto &kv : d->fracture_zones) {
+    const auto &names = d->mesh.body_names;
+    const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
+    if (b == (int)names.size()) throw fdem::kernels::InputError("FDEMDeformableAddFractureZone names body '" + kv.first + "', which is not in the mesh");
+    if (!split[b])
+      throw fdem::kernels::InputError("body '" + kv.first + "' has a fracture zone, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
+    if (in_zone.empty()) in_zone.assign(d->mesh.tets.size(), 1);
+    std::vector<int> held(kv.second.size(), 0);
+    for (std::size_t t = 0; t < d->mesh.tets.size(); ++t) {
+      if (d->mesh.body[t] != b) continue;
+      fdem::kernels::Vec3 c;
+      for (int n : d->mesh.tets[t]) c = c + 0.25 * d->mesh.nodes[n];
+      in_zone[t] = 0;
+      for (std::size_t z = 0; z < kv.second.size(); ++z) {
+        const auto &Z  = kv.second[z];
+        const bool  in = c.x >= Z[0] && c.x <= Z[3] && c.y >= Z[1] && c.y <= Z[4] && c.z >= Z[2] && c.z <= Z[5];
+        held[z] += in;
+        in_zone[t] = in_zone[t] || in;
+      }
+    }
+    for (std::size_t z = 0; z < held.size(); ++z)
+      if (!held[z]) {
+        const auto &Z = kv.second[z];
+        throw fdem::kernels::InputError("body '" + kv.first + "': fracture zone " + std::to_string(z) + " [" + std::to_string(Z[0]) + ", " + std::to_string(Z[1]) + ", " + std::to_string(Z[2]) + "] to [" + std::to_string(Z[3]) + ", " +
+                                        std::to_string(Z[4]) + ", " + std::to_string(Z[5]) + "] holds the centroid of none of its tetrahedra");
+      }
+  }
   if (!any) return;
-  fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split);
+  fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;
@@ -78,9 +108,10 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
 
 PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscFunctionBegin;
-  PetscInt sizes[2] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0};
-  PetscCallMPI(MPI_Bcast(sizes, 2, MPIU_INT, 0, d->comm));
+  PetscInt sizes[3] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0, d->rank == 0 ? (PetscInt)!d->fracture_zones.empty() : 0};
+  PetscCallMPI(MPI_Bcast(sizes, 3, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
+  d->zoned          = sizes[2] != 0;
   d->njoints_global = nj;
   PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
@@ -120,8 +151,8 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
   }
   if (nj == 0) PetscFunctionReturn(0);
-  // rank 0: each joint's record (9 ints, 13 reals) to the rank of its tetrahedron a
-  constexpr int          NI = 9, NR = 13; // the reals: the law's fields before face_compression, which is set on each rank
+  // rank 0: each joint's record (11 ints, 13 reals) to the rank of its tetrahedron a
+  constexpr int          NI = 11, NR = 13; // the reals: the law's fields before face_compression, which is set on each rank
   static_assert(offsetof(fdem::kernels::JointLaw, face_compression) == NR * sizeof(double), "the joint record's reals are the law's first NR fields");
   std::vector<PetscInt>  ibuf;
   std::vector<PetscReal> rbuf;
@@ -129,10 +160,12 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   if (d->rank == 0) {
     std::vector<PetscMPIInt> node_rank(d->nnodes_global, -1), cell_rank(d->ncells_global, -1);
     std::vector<PetscInt>    node_lidx(d->nnodes_global, -1), cell_lidx(d->ncells_global, -1);
+    std::unordered_map<long long, PetscInt> more; // node * size + rank -> local index, for a node on more ranks than one
     for (int r = 0; r < size; ++r) {
       for (PetscMPIInt i = 0; i < nn[r]; ++i) {
-        node_rank[allnodes[offn[r] + i]] = r;
-        node_lidx[allnodes[offn[r] + i]] = i;
+        const PetscInt g = allnodes[offn[r] + i];
+        if (node_rank[g] < 0) node_rank[g] = r, node_lidx[g] = i;
+        else more[(long long)g * size + r] = i;
       }
       for (PetscMPIInt i = 0; i < nc[r]; ++i) {
         cell_rank[allcells[offc[r] + i]] = r;
@@ -158,14 +191,25 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
       PetscInt    *I = &ibuf[ioff[r] + NI * (size_t)at[r]];
       PetscReal   *R = &rbuf[roff[r] + NR * (size_t)at[r]];
       ++at[r];
+      // triangle b's nodes as the rank of tetrahedron b holds them (an unsplit tetrahedron's
+      // nodes may be on other ranks too)
+      const int rb    = cell_rank[J.tet_b];
+      auto      local = [&](PetscInt g, int q) -> PetscInt {
+        if (node_rank[g] == q) return node_lidx[g];
+        const auto it = more.find((long long)g * size + q);
+        return it == more.end() ? -1 : it->second;
+      };
       for (int i = 0; i < 3; ++i) {
         PetscCheck(node_rank[J.a[i]] == r, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint %" PetscInt_FMT ": a node of triangle a is not on the rank of its tetrahedron", j);
         I[i]     = node_lidx[J.a[i]];
-        I[4 + i] = node_lidx[J.b[i]];
+        I[4 + i] = local(J.b[i], rb);
+        PetscCheck(I[4 + i] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint %" PetscInt_FMT ": a node of triangle b is not on the rank of its tetrahedron", j);
       }
-      I[3] = node_rank[J.b[0]];
-      I[7] = j;
-      I[8] = cell_lidx[J.tet_a]; // its local cell there (the joint's body)
+      I[3]  = rb;
+      I[7]  = j;
+      I[8]  = cell_lidx[J.tet_a]; // its local cell there (the joint's body)
+      I[9]  = J.tet_b;            // tetrahedron b's id and its local cell on its rank
+      I[10] = cell_lidx[J.tet_b];
       const double *L = reinterpret_cast<const double *>(&d->laws_input[j]);
       for (int k = 0; k < NR; ++k) R[k] = L[k];
     }
@@ -188,6 +232,8 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   d->jdiss.assign(mycnt, 0);
   d->jbody.resize(mycnt);
   d->jgone.assign(mycnt, 0);
+  d->jcell_a.resize(mycnt);
+  d->jtet_b.resize(mycnt);
   d->jbreaks.clear();
   std::vector<PetscSFNode> remote(9 * (size_t)mycnt), remote_only;
   std::vector<PetscInt>    remote_leaf; // where remote_only's leaves are in jxb
@@ -195,6 +241,8 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     const PetscInt *I = &imine[NI * (size_t)j];
     d->jgid[j]        = I[7];
     d->jbody[j]       = d->ed.body[I[8]];
+    d->jcell_a[j]     = I[8];
+    d->jtet_b[j]      = {I[9], I[3], I[10], -1};
     for (int i = 0; i < 3; ++i) {
       d->jnode_a[j][i] = (int)I[i];
       d->jnode_b[j][i] = I[3] == d->rank ? (int)I[4 + i] : -1;
@@ -219,6 +267,36 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscCall(PetscSFSetUp(d->jsf_remote));
   d->jxb.assign(9 * (size_t)mycnt, 0);
   d->jfb.assign(9 * (size_t)mycnt, 0);
+  // the face of tetrahedron b that each joint glues (the node of it not in triangle b, as
+  // the rank of tetrahedron b orders its cell), from that rank's cells; then the SF from
+  // each joint to that face (3 leaves a joint, 3 roots a face, 12 a cell)
+  {
+    const PetscInt        nc = (PetscInt)d->ed.size();
+    std::vector<PetscInt> cnodes(4 * (size_t)nc), jn(4 * (size_t)mycnt);
+    std::vector<PetscSFNode> cr(4 * (size_t)mycnt), fr(3 * (size_t)mycnt);
+    for (PetscInt e = 0; e < nc; ++e)
+      for (int a = 0; a < 4; ++a) cnodes[4 * e + a] = d->ed.elems[e].n[a];
+    for (PetscMPIInt j = 0; j < mycnt; ++j)
+      for (int a = 0; a < 4; ++a) cr[4 * (size_t)j + a] = {d->jtet_b[j][1], 4 * d->jtet_b[j][2] + a};
+    PetscSF csf;
+    PetscCall(PetscSFCreate(d->comm, &csf));
+    PetscCall(PetscSFSetGraph(csf, 4 * nc, 4 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, cr.data(), PETSC_COPY_VALUES));
+    PetscCall(PetscSFBcastBegin(csf, MPIU_INT, cnodes.data(), jn.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(csf, MPIU_INT, cnodes.data(), jn.data(), MPI_REPLACE));
+    PetscCall(PetscSFDestroy(&csf));
+    for (PetscMPIInt j = 0; j < mycnt; ++j) {
+      const PetscInt *I = &imine[NI * (size_t)j];
+      int             o = -1;
+      for (int a = 0; a < 4; ++a)
+        if (jn[4 * (size_t)j + a] != I[4] && jn[4 * (size_t)j + a] != I[5] && jn[4 * (size_t)j + a] != I[6]) o = a;
+      PetscCheck(o >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint %" PetscInt_FMT ": triangle b is not a face of its tetrahedron", d->jgid[j]);
+      d->jtet_b[j][3] = o;
+      for (int q = 0; q < 3; ++q) fr[3 * (size_t)j + q] = {d->jtet_b[j][1], 12 * d->jtet_b[j][2] + 3 * o + q};
+    }
+    PetscCall(PetscSFCreate(d->comm, &d->jfsf));
+    PetscCall(PetscSFSetGraph(d->jfsf, 12 * nc, 3 * (PetscInt)mycnt, nullptr, PETSC_COPY_VALUES, fr.data(), PETSC_COPY_VALUES));
+    PetscCall(PetscSFSetUp(d->jfsf));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -450,6 +528,19 @@ PetscErrorCode fdem::model::deformable::DestroyJoints(FDEMDeformable d) {
   PetscFunctionBegin;
   PetscCall(PetscSFDestroy(&d->jsf));
   PetscCall(PetscSFDestroy(&d->jsf_remote));
+  PetscCall(PetscSFDestroy(&d->jfsf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable d, const char *body, const PetscReal lo[3], const PetscReal hi[3]) {
+  PetscFunctionBegin;
+  PetscCheck(body && body[0], d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableAddFractureZone: the body needs a name");
+  PetscCheck(lo && hi, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableAddFractureZone: give the zone's corners lo and hi");
+  PetscCall(CheckNotSetUp(d, "FDEMDeformableAddFractureZone"));
+  for (int k = 0; k < 3; ++k)
+    PetscCheck(std::isfinite(lo[k]) && std::isfinite(hi[k]) && lo[k] <= hi[k], d->comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "FDEMDeformableAddFractureZone: body '%s': the zone [%g, %g, %g] to [%g, %g, %g] must have finite corners with lo <= hi in each coordinate", body, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2]);
+  d->fracture_zones[body].push_back({lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]});
   PetscFunctionReturn(0);
 }
 

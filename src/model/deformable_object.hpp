@@ -80,6 +80,7 @@ struct _n_FDEMDeformable {
   std::vector<fdem::model::deformable::OutputRecord> outputs;
   // fracture joints (deformable_joints.cpp)
   std::map<std::string, fdem::kernels::JointMaterial> fracture; // by material name: its bodies are fracturable
+  std::map<std::string, std::vector<std::array<double, 6>>> fracture_zones; // by body name: boxes (lo, hi) that limit its split
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
@@ -100,6 +101,10 @@ struct _n_FDEMDeformable {
   std::vector<std::array<int, 3>>         jnode_b;        // local nodes of triangle b where it is on this rank, else -1
   PetscSF                                 jsf_remote = nullptr; // jsf's leaves of the joints whose triangle b is on another rank only
   std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
+  std::vector<PetscInt>                   jcell_a;        // their tetrahedra a: local cells
+  std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
+  PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
+  bool                                    zoned = false;  // a fracture zone split part of a body (cells of fracturable bodies may share nodes)
 };
 
 namespace fdem::model::deformable {

@@ -12,26 +12,25 @@
 using namespace fdem::model::deformable;
 
 // The largest damage of each local cell's joints (0 for a cell without joints; a broken
-// point counts 1). Each joint's largest point damage marks the nodes of its triangle a
-// (local) and, through the joint SF (max instead of the forces' sum), those of triangle b
-// on the rank of tetrahedron b. A node of a fracturable body belongs to one tetrahedron, so
-// a cell's damage is the largest over its four nodes. Collective when the mesh has joints.
+// point counts 1): each joint's largest point damage marks its tetrahedron a (local) and,
+// through the joint-face SF (max), the face of tetrahedron b on that cell's rank.
+// Collective when the mesh has joints.
 static PetscErrorCode CellDamage(FDEMDeformable d, std::vector<PetscReal> &cd) {
   PetscFunctionBegin;
   const size_t nc = d->ed.size();
   cd.assign(nc, 0.0);
   if (d->njoints_global == 0) PetscFunctionReturn(0);
-  std::vector<PetscReal> node(3 * d->nlocal, 0.0), leaf(9 * d->jstate.size());
+  std::vector<PetscReal> face(12 * nc, 0.0), leaf(3 * d->jstate.size());
   for (size_t j = 0; j < d->jstate.size(); ++j) {
     PetscReal D = 0;
     for (const auto &p : d->jstate[j]) D = std::fmax(D, p.D); // 1 once broken
-    for (int k = 0; k < 9; ++k) leaf[9 * j + k] = D;
-    for (int a = 0; a < 3; ++a) node[3 * d->jnode_a[j][a]] = std::fmax(node[3 * d->jnode_a[j][a]], D);
+    for (int k = 0; k < 3; ++k) leaf[3 * j + k] = D;
+    cd[d->jcell_a[j]] = std::fmax(cd[d->jcell_a[j]], D);
   }
-  PetscCall(PetscSFReduceBegin(d->jsf, MPIU_REAL, leaf.data(), node.data(), MPI_MAX));
-  PetscCall(PetscSFReduceEnd(d->jsf, MPIU_REAL, leaf.data(), node.data(), MPI_MAX));
+  PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_REAL, leaf.data(), face.data(), MPI_MAX));
+  PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_REAL, leaf.data(), face.data(), MPI_MAX));
   for (size_t e = 0; e < nc; ++e)
-    for (int a = 0; a < 4; ++a) cd[e] = std::fmax(cd[e], node[3 * d->ed.elems[e].n[a]]);
+    for (int q = 0; q < 12; ++q) cd[e] = std::fmax(cd[e], face[12 * e + q]);
   PetscFunctionReturn(0);
 }
 

@@ -36,7 +36,13 @@ struct SplitMesh {
 // two tetrahedra that touch across a face without sharing its nodes (hanging or
 // duplicated nodes: found from the boundary faces, one lying on another with the
 // opposite normal; a grid keeps it linear).
-SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body);
+//
+// split_tet (one entry per tetrahedron; empty: all) limits the split to the
+// tetrahedra of those bodies with split_tet[t] != 0 (a fracture zone): the
+// others keep shared nodes, and a face between a split and an unsplit
+// tetrahedron of the body is a joint too, triangle a on the split side and
+// triangle b made of the unsplit tetrahedron's (shared) nodes.
+SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body, const std::vector<char> &split_tet = {});
 
 // The faces of a mesh, each once with the tetrahedra that hold it: for the
 // face k of tetrahedron t (the face opposite node k, ordered so that its
