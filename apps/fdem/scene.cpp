@@ -138,7 +138,7 @@ const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "mod
 const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
-const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field"};
+const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field", "fracture_zone"};
 const std::vector<std::string> kShapes    = {"box", "sphere", "ellipsoid", "cylinder", "convex_hull", "pebble", "spheres", "mesh"};
 const std::vector<std::string> kBodyModel = {"rigid", "deformable", "sphere", "auto"};
 const std::vector<std::string> kSchemes   = {"cd", "pv", "chin", "omf30", "omf32", "fr", "pefrl", "t112", "t16", "d112", "pc3", "pc4", "pc5"};
@@ -298,6 +298,27 @@ VelocityField ReadVelocityField(const Reader &r, const std::string &w, const YAM
   return f;
 }
 
+// fracture_zone: {min: [x, y, z], max: [x, y, z]} or a list of such boxes (world coordinates).
+std::vector<FractureZone> ReadFractureZones(const Reader &r, const std::string &w, const YAML::Node &n) {
+  const char *shape = ": expected a box {min: [x, y, z], max: [x, y, z]} or a list of them";
+  if (!n.IsMap() && !(n.IsSequence() && n.size() > 0)) r.Fail(n, w + shape + Reader::Got(n));
+  std::vector<FractureZone> zones;
+  for (size_t i = 0; i < (n.IsMap() ? 1 : n.size()); ++i) {
+    const YAML::Node  z  = n.IsMap() ? n : n[i];
+    const std::string wz = n.IsMap() ? w : w + "[" + std::to_string(i) + "]";
+    if (!z.IsMap()) r.Fail(z, wz + shape + Reader::Got(z));
+    r.Keys(z, wz, {"min", "max"});
+    FractureZone Z;
+    Z.where = r.At(z);
+    Z.lo    = r.Vector(r.Required(z, "min", wz), wz + ".min");
+    Z.hi    = r.Vector(r.Required(z, "max", wz), wz + ".max");
+    for (int k = 0; k < 3; ++k)
+      if (!(Z.lo[k] <= Z.hi[k])) r.Fail(z["min"], wz + ": min exceeds max in " + std::string(1, "xyz"[k]) + " (min " + z["min"][k].Scalar() + ", max " + z["max"][k].Scalar() + ")");
+    zones.push_back(Z);
+  }
+  return zones;
+}
+
 Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string &dir) {
   std::string w = "bodies[" + std::to_string(i) + "]";
   r.Keys(n, w, kBody);
@@ -350,6 +371,11 @@ Body ReadBody(const Reader &r, size_t i, const YAML::Node &n, const std::string 
   if (n["velocity_field"]) {
     if (b.model != "deformable" && b.model != "auto") r.Fail(n["velocity_field"], w + ".velocity_field: only a deformable body has a velocity field; a rigid body has velocity and angular_velocity");
     b.velocity_field = ReadVelocityField(r, w + ".velocity_field", n["velocity_field"]);
+  }
+  if (n["fracture_zone"]) {
+    if ((b.model != "deformable" && b.model != "auto") || b.shape.kind == ShapeKind::Spheres)
+      r.Fail(n["fracture_zone"], w + ".fracture_zone: only deformable bodies fracture (this one is " + (b.shape.kind == ShapeKind::Spheres ? std::string("a clump, a rigid body") : "of model " + b.model) + "); give the body model: deformable and a material with fracture:");
+    b.fracture_zones = ReadFractureZones(r, w + ".fracture_zone", n["fracture_zone"]);
   }
   return b;
 }
@@ -491,6 +517,12 @@ Scene ReadScene(const std::string &file, const char *text) {
     }
     if (b.model != "deformable" && b.model != "auto" && !b.material.empty() && sc.FindMaterial(b.material)->fracture.present)
       r.Fail(bodies[i]["material"], "body '" + b.name + "': material '" + b.material + "' is fracturable (fracture: at " + sc.FindMaterial(b.material)->fracture.where + "), and only deformable bodies fracture; give the body model: deformable, or a material without fracture:");
+    if (!b.fracture_zones.empty()) {
+      const Material *m = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
+      if (!(m && m->fracture.present))
+        r.Fail(bodies[i]["fracture_zone"], "body '" + b.name + "'.fracture_zone: " + (m ? "material '" + m->name + "' (" + m->where + ") is not fracturable (it has no fracture:)" : std::string("the body has no material")) +
+                                               "; a fracture zone limits where a fracturable body splits: give the material fracture: {...}, or remove fracture_zone");
+    }
     if (sc.periodic.Any() && b.model == "deformable") r.Fail(bodies[i]["model"] ? bodies[i]["model"] : bodies[i], "body '" + b.name + "': periodic boundaries (periodic: at " + sc.periodic.where + ") hold rigid bodies and spheres only; this body is deformable");
     if (b.model == "deformable") {
       const Material *m = sc.FindMaterial(b.material);
@@ -504,6 +536,8 @@ Scene ReadScene(const std::string &file, const char *text) {
     for (size_t i = 0; i < g.size(); ++i) {
       Pack p = ReadPack(r, i, g[i]);
       if (!sc.FindBody(p.like)) r.Fail(g[i]["pack"]["like"], "generate[" + std::to_string(i) + "].pack.like: no body named '" + p.like + "'");
+      if (!sc.FindBody(p.like)->fracture_zones.empty())
+        r.Fail(g[i]["pack"]["like"], "generate[" + std::to_string(i) + "].pack.like: body '" + p.like + "' has a fracture_zone (" + sc.FindBody(p.like)->fracture_zones[0].where + "), a box in world coordinates that cannot follow the copies a pack places and turns at random; pack a body without fracture_zone");
       sc.packs.push_back(p);
     }
   }
@@ -559,7 +593,9 @@ const char *SceneKeysHelp() {
          "     fixed: true (rigid), fix: {below: [axis, value]} | {above: [axis, value]} | {group: NAME} (deformable),\n"
          "     move: {velocity: [..]} (rigid: a platen) | {velocity: [..], below|above|group: ...} (deformable: nodes held at v),\n"
          "     velocity_field: {shape: cantilever|sine|gaussian, along: [axis, from, to], direction: [..], amplitude: m/s,\n"
-         "                      centre, width (gaussian; fractions of from..to)} (deformable, added to velocity)}\n"
+         "                      centre, width (gaussian; fractions of from..to)} (deformable, added to velocity),\n"
+         "     fracture_zone: {min: [x,y,z], max: [x,y,z]} | [{min, max}, ...] (fracturable material: split only the tetrahedra\n"
+         "                    whose centroids lie in a box, world coordinates; elsewhere no joints)}\n"
          "    shape: {box: [lx, ly, lz]} | {sphere: r} | {ellipsoid: [a, b, c]} | {cylinder: {radius, height}}\n"
          "         | {convex_hull: [[x,y,z], ...]} | {pebble: {size, seed}} | {mesh: FILE.msh} | {mesh: {file, group}}\n"
          "         | {spheres: [[x,y,z,r], ...]} (a clump: a rigid body whose contact shape is spheres, granular laws)\n"

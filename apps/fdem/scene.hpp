@@ -74,6 +74,14 @@ struct VelocityField {
   double Profile(double xi) const; // f(xi)
 };
 
+// A fracture zone of a deformable body (fracture_zone:): the box [lo, hi] in world coordinates
+// (the placed body). A body with zones is split for fracture only at the tetrahedra whose
+// centroids lie in one of them (FDEMDeformableAddFractureZone).
+struct FractureZone {
+  Vec3  lo, hi;
+  Where where;
+};
+
 struct Body {
   std::string name, model, material; // model: rigid | deformable | sphere
   Shape       shape;
@@ -87,6 +95,7 @@ struct Body {
   Vec3        move_velocity;
   Where       move_where;
   VelocityField velocity_field;      // deformable: added to velocity + angular_velocity x (X - centroid)
+  std::vector<FractureZone> fracture_zones; // deformable, fracturable material: the split limited to these boxes (none: everywhere)
   Where       where;
   // a sphere or a clump: its contacts take the granular laws (and keep tangential springs)
   bool Granular() const { return model == "sphere" || shape.kind == ShapeKind::Spheres; }

@@ -382,6 +382,15 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     for (std::size_t i = 0; i < vcell.size(); ++i) cedges.push_back({cells.Label(vcell[i]), vleaf[i]});
     PetscCall(PetscSFDestroy(&vsf));
   }
+  // A node that ranks share is one node: its class here and its classes elsewhere meet at
+  // its id (unsplit nodes glued to split copies by joints have classes larger than
+  // themselves since fracture zones).
+  if (sharing)
+    for (PetscInt l = 0; l < nl; ++l)
+      if (shared[l]) {
+        nbnd.push_back(l);
+        if (nodes.Label(l) != d->node_gid[l]) nedges.push_back({nodes.Label(l), d->node_gid[l]});
+      }
   if (d->size > 1) {
     PetscInt nn = 0, ncl = 0;
     PetscCall(Settle(d->comm, nodes, nbnd, nedges, &nn));

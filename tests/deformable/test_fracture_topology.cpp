@@ -18,6 +18,10 @@
 //     whole by one rank (PETSC_COMM_SELF), by cell and node id;
 //  3. on more than one rank, some fragment of the rock and some body that is not fracturable
 //     have cells on several ranks (so the labels had to cross ranks for 1 and 2 to hold).
+// With -zone, the rock is fracturable only in the zone 0.1 < x < 0.7 (FDEMDeformableAddFractureZone):
+// the cut and the pocket lie in it (the pocket's wall x = 0.1 on its edge, joints between split
+// and unsplit tetrahedra), the half crack outside it (no joints there). The same 5 fragments
+// and 1 and 2 hold, and the rock's cells outside the zone (72 cubes) are the unsplit ones.
 #include "common.hpp"
 #include "../common/reference.hpp"
 #include "../../src/model/deformable_impl.hpp"
@@ -63,6 +67,12 @@ PetscErrorCode Make(MPI_Comm comm, FDEMDeformable *out) {
   PetscCall(FDEMDeformableSetBodyMaterial(d, "rock", "rock"));
   PetscCall(FDEMDeformableSetBodyMaterial(d, "plate", "steel"));
   PetscCall(FDEMDeformableSetBodyMaterial(d, "lid", "steel"));
+  PetscBool zone = PETSC_FALSE;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
+  if (zone) {
+    const PetscReal lo[3] = {0.1, -1, -1}, hi[3] = {0.7, 1, 1};
+    PetscCall(FDEMDeformableAddFractureZone(d, "rock", lo, hi));
+  }
   PetscCall(FDEMDeformableSetUp(d));
   *out = d;
   PetscFunctionReturn(0);
@@ -192,6 +202,20 @@ int main(int argc, char **argv) {
   PetscCallMPI(MPIU_Allreduce(&differ, &gdiffer, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
   CHECK(gdiffer == 0, "%" PetscInt_FMT " cells (or the count of broken joints or the broken pairs of a rank) differ from one rank's answer", gdiffer);
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " broken joints, %" PetscInt_FMT " fragments on %d rank(s)\n", t.nbroken, nf, size));
+
+  // the unsplit cells (bit 6): the rock outside the zone with -zone, none without
+  {
+    PetscBool zone = PETSC_FALSE;
+    PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
+    PetscInt unsplit = 0, gunsplit, outside = 0, goutside;
+    for (PetscInt e = 0; e < nc; ++e) {
+      unsplit += t.cell_free[e] >> 6 & 1;
+      outside += region[e] <= 2 && (centroid[e].x < 0.1 || centroid[e].x > 0.7);
+    }
+    PetscCallMPI(MPIU_Allreduce(&unsplit, &gunsplit, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    PetscCallMPI(MPIU_Allreduce(&outside, &goutside, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(gunsplit == (zone ? 6 * 72 : 0) && (!zone || goutside == 6 * 72), "%" PetscInt_FMT " unsplit cells of the rock, expected %d (%" PetscInt_FMT " outside the zone)", gunsplit, zone ? 6 * 72 : 0, goutside);
+  }
 
   // 3. fragments across ranks
   if (size > 1) {

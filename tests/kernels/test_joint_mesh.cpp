@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -87,6 +88,63 @@ TEST(JointMesh, SplitsOneBodyIntoJoints) {
   }
   // boundary faces of the split mesh: every face of a split tetrahedron, and the whole body's surface
   EXPECT_EQ(SurfaceTets(s.mesh).faces.size(), static_cast<std::size_t>(4 * nt0 + 2 * 2 * (2 * 2 + 2 * 1 + 2 * 1)));
+}
+
+// A fracture zone: only the tetrahedra flagged (the first box's cubes with x < 1/3, its
+// first column) get nodes of their own; the rest of that body keeps shared nodes. Every
+// face between a flagged tetrahedron and another of the body is a joint, triangle a on the
+// flagged side; faces between two unflagged ones are not.
+TEST(JointMesh, ZoneSplitsOnlyFlaggedTetrahedra) {
+  const TetMesh m = TwoBoxes();
+  const int nt = static_cast<int>(m.tets.size()), nt0 = 6 * 3 * 2 * 2;
+  std::vector<char> zone(nt, 0);
+  int nz = 0;
+  for (int t = 0; t < nt; ++t) nz += zone[t] = m.body[t] == 0 && Centroid(m, t).x < 1.0 / 3;
+  ASSERT_EQ(nz, 6 * 2 * 2);
+  const SplitMesh s = SplitForJoints(m, {1, 0}, zone);
+  // nodes: four per flagged tetrahedron, and each input node used by an unflagged one once
+  std::set<int> kept;
+  for (int t = 0; t < nt; ++t)
+    if (!zone[t]) kept.insert(m.tets[t].begin(), m.tets[t].end());
+  EXPECT_EQ(s.mesh.nodes.size(), 4 * static_cast<std::size_t>(nz) + kept.size());
+  for (int t = 0; t < nt; ++t)
+    for (int j = 0; j < 4; ++j) EXPECT_EQ(s.parent[s.mesh.tets[t][j]], m.tets[t][j]);
+  // joints: the faces of body 0 held by two tetrahedra with one flagged at least, counted
+  // from the input mesh's faces
+  const std::vector<TetFace> faces = SortedFaces(m.tets);
+  int expect = 0, interface = 0;
+  for (std::size_t i = 0; i + 1 < faces.size(); ++i)
+    if (faces[i].key == faces[i + 1].key && m.body[faces[i].tet] == 0 && (zone[faces[i].tet] || zone[faces[i + 1].tet])) {
+      ++expect;
+      interface += zone[faces[i].tet] != zone[faces[i + 1].tet];
+    }
+  EXPECT_EQ(interface, 2 * 2 * 2); // the plane x = 1/3: two triangles per square of a 2 x 2 grid
+  ASSERT_EQ(static_cast<int>(s.joints.size()), expect);
+  int across = 0;
+  for (const JointFace &j : s.joints) {
+    ASSERT_LT(j.tet_a, nt0);
+    ASSERT_LT(j.tet_b, nt0);
+    EXPECT_TRUE(zone[j.tet_a]) << "triangle a on an unsplit tetrahedron";
+    across += !zone[j.tet_b];
+    const auto &tb = s.mesh.tets[j.tet_b];
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(norm(s.mesh.nodes[j.a[i]] - s.mesh.nodes[j.b[i]]), 0.0);
+      EXPECT_NE(std::find(tb.begin(), tb.end(), j.b[i]), tb.end());
+    }
+    const Vec3 n = cross(s.mesh.nodes[j.a[1]] - s.mesh.nodes[j.a[0]], s.mesh.nodes[j.a[2]] - s.mesh.nodes[j.a[0]]);
+    EXPECT_GT(dot(n, Centroid(s.mesh, j.tet_b) - Centroid(s.mesh, j.tet_a)), 0);
+  }
+  EXPECT_EQ(across, interface);
+  // components: each flagged tetrahedron alone, the rest of body 0 one piece, body 1 one piece
+  int ncomp = 0;
+  ConnectedComponents(s.mesh, &ncomp);
+  EXPECT_EQ(ncomp, nz + 2);
+  // all flags set is the split of the whole body; a wrong number of flags is an error
+  const SplitMesh all = SplitForJoints(m, {1, 0}, std::vector<char>(nt, 1)), whole = SplitForJoints(m, {1, 0});
+  EXPECT_EQ(all.mesh.nodes.size(), whole.mesh.nodes.size());
+  ASSERT_EQ(all.joints.size(), whole.joints.size());
+  for (std::size_t j = 0; j < all.joints.size(); ++j) EXPECT_EQ(all.joints[j].a, whole.joints[j].a);
+  EXPECT_THROW(SplitForJoints(m, {1, 0}, std::vector<char>(nt - 1, 1)), InputError);
 }
 
 TEST(JointMesh, NothingToSplit) {
