@@ -38,7 +38,11 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   for (const auto &kv : d->fracture_zones) {
     const auto &names = d->mesh.body_names;
     const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
-    if (b == (int)names.size()) throw fdem::kernels::InputError("FDEMDeformableAddFractureZone names body '" + kv.first + "', which is not in the mesh");
+    if (b == (int)names.size()) {
+      std::string have;
+      for (const auto &n : names) have += (have.empty() ? "" : ", ") + n;
+      throw fdem::kernels::InputError("FDEMDeformableAddFractureZone names body '" + kv.first + "', which is not in the mesh (its bodies: " + have + ")");
+    }
     if (!split[b])
       throw fdem::kernels::InputError("body '" + kv.first + "' has a fracture zone, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
     if (in_zone.empty()) in_zone.assign(d->mesh.tets.size(), 1);

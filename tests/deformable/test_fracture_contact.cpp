@@ -31,6 +31,10 @@
 //     intact joints, must meet as contact surfaces: the gap stays above -1e-4 m (measured
 //     -4.8e-5 m; with the two sides of broken joints not paired, as they would be by the
 //     shared-node rule alone, it reaches -3.4e-4 m) and the contact energy is positive.
+// With -zone, the bar is fracturable only in its two middle cubes, 0.15 < x < 0.25
+// (FDEMDeformableAddFractureZone): the rest keeps shared nodes, so the fragments are split
+// and unsplit tetrahedra together and their contact surfaces are made of both. All of the
+// above must hold unchanged.
 #include "common.hpp"
 
 #include <fdem/deformable_contact.h>
@@ -50,6 +54,12 @@ PetscErrorCode MakeBar(MPI_Comm comm, bool fracturable, FDEMDeformable *bar) {
   if (fracturable) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1.0e6, 3.0e6, 30, 50, 200, 10 * E));
   const PetscReal lo[3] = {0, 0, 0}, hi[3] = {L, 0.1, 0.1};
   PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 8, 2, 2));
+  PetscBool zone = PETSC_FALSE;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
+  if (fracturable && zone) {
+    const PetscReal zlo[3] = {0.15, -1, -1}, zhi[3] = {0.25, 1, 1};
+    PetscCall(FDEMDeformableAddFractureZone(d, "box", zlo, zhi)); // the box mesh's one body
+  }
   PetscCall(FDEMDeformableSetUp(d));
   *bar = d;
   PetscFunctionReturn(0);
