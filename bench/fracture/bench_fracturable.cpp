@@ -2,8 +2,11 @@
 // n^3 cubes (6 n^3 tetrahedra) stepped by -ts_type cd, whole and split into joints (a
 // joint on every interior face, strengths far above the load so that nothing softens,
 // and then every joint softening), at the same time step, in interleaved rounds in one
-// process. Prints CPU seconds per step of each and the ratios split / whole.
+// process. Prints CPU seconds per step of each and the ratios split / whole. A fourth case
+// splits the box only in a fracture zone (FDEMDeformableAddFractureZone), the slab
+// |x - 1/2| <= zone / 2, intact joints: what a body costs that may crack in part of it.
 // Options: -n 16 (cubes per side) -steps 50 -rounds 3 -softening 1 (0: leave out the softening case)
+//          -zone 0.125 (the slab's share of the box; 0: leave out the zone case)
 #include <fdem.h>
 #include <fdem/deformable.h>
 
@@ -26,7 +29,9 @@ static PetscErrorCode Shake(PetscInt id, const PetscReal X[3], PetscReal v[3], v
   return 0;
 }
 
-// kind 0: whole; 1: split, intact joints; 2: split, joints softening
+static PetscReal g_zone = 0.125;
+
+// kind 0: whole; 1: split, intact joints; 2: split, joints softening; 3: split in the zone, intact joints
 static PetscErrorCode Run(PetscInt n, PetscInt steps, int kind, double dt, double *cpu_per_step, PetscInt *joints) {
   FDEMDeformable d;
   TS             ts;
@@ -36,10 +41,14 @@ static PetscErrorCode Run(PetscInt n, PetscInt steps, int kind, double dt, doubl
   PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.25, 2000, 0, FDEM_MATERIAL_MUNJIZA_CST));
   // intact: f_t 1 GPa, never reached; softening: f_t 1 Pa with a large G: the joints pass their peak within a
   // few steps of the stretch and soften without breaking
-  if (kind == 1) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e9, 3e9, 30, 1e9, 1e10, 1e10));
+  if (kind == 1 || kind == 3) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e9, 3e9, 30, 1e9, 1e10, 1e10));
   if (kind == 2) PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1, 3, 30, 1e3, 1e4, 1e10));
   const PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
   PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, n, n, n));
+  if (kind == 3) {
+    const PetscReal zlo[3] = {0.5 - g_zone / 2, -1, -1}, zhi[3] = {0.5 + g_zone / 2, 2, 2};
+    PetscCall(FDEMDeformableAddFractureZone(d, "box", zlo, zhi));
+  }
   g_stretch = kind == 2 ? 30.0 : 0.0; // 30 /s: a strain of 3% per ms
   PetscCall(FDEMDeformableSetUp(d));
   PetscCall(FDEMDeformableSetVelocityField(d, Shake, nullptr));
@@ -80,14 +89,16 @@ int main(int argc, char **argv) {
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-rounds", &rounds, nullptr));
   PetscBool softening = PETSC_TRUE;
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-softening", &softening, nullptr));
+  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-zone", &g_zone, nullptr));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   const double dt = 1e-7; // below every case's limit (the joints' at p = 10 E), the same for all
-  std::vector<double> best(3, 1e300);
-  PetscInt            nj[3] = {0, 0, 0};
+  std::vector<double> best(4, 1e300);
+  PetscInt            nj[4] = {0, 0, 0, 0};
   for (PetscInt r = 0; r < rounds; ++r)
-    for (int kind = 0; kind < (softening ? 3 : 2); ++kind) {
+    for (int kind = 0; kind < 4; ++kind) {
       double c;
+      if ((kind == 2 && !softening) || (kind == 3 && !(g_zone > 0))) continue;
       PetscCall(Run(n, steps, kind, dt, &c, &nj[kind]));
       best[kind] = std::min(best[kind], c);
     }
@@ -96,6 +107,7 @@ int main(int argc, char **argv) {
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  whole body            %.4e s/step  (%.3g tet-steps/s/core)\n", best[0], tets / (best[0] * size)));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  split, intact joints  %.4e s/step  (%" PetscInt_FMT " joints, %.2f per tetrahedron)  ratio to whole %.2f\n", best[1], nj[1], nj[1] / tets, best[1] / best[0]));
   if (softening) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  split, joints softening %.4e s/step  ratio to whole %.2f\n", best[2], best[2] / best[0]));
+  if (g_zone > 0) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  split in a zone (slab of %.3g of the box), intact joints  %.4e s/step  (%" PetscInt_FMT " joints)  ratio to whole %.2f\n", (double)g_zone, best[3], nj[3], best[3] / best[0]));
   PetscCall(PetscFinalize());
   return 0;
 }
