@@ -115,7 +115,7 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
     a.why   = "it has node sets or a velocity field (only a mesh has nodes); " + a.why;
   } else if (mm && mm->fracture.present) {
     a.model = "deformable";
-    a.why   = "its material fractures; " + a.why;
+    a.why   = std::string("its material fractures") + (b.fracture_zones.empty() ? "" : " (in its fracture_zone)") + "; " + a.why;
   } else if (b.fixed || (b.moved && b.model != "deformable")) {
     a.model = ball ? "sphere" : "rigid";
     a.why   = "it is held (fixed or moved): its strain does not change the others' motion";

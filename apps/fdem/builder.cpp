@@ -211,6 +211,10 @@ PetscErrorCode BuildDeformable(Sim &s) {
       added.push_back(m.name);
     }
     PetscCall(FDEMDeformableSetBodyMaterial(s.dfm, sc.bodies[i].name.c_str(), m.name.c_str()));
+    for (const FractureZone &z : sc.bodies[i].fracture_zones) { // world coordinates, as the placed nodes below
+      const PetscReal lo[3] = {z.lo.x, z.lo.y, z.lo.z}, hi[3] = {z.hi.x, z.hi.y, z.hi.z};
+      PetscCall(FDEMDeformableAddFractureZone(s.dfm, sc.bodies[i].name.c_str(), lo, hi));
+    }
   }
   const bool root = rank == 0;
   PetscCall(FDEMDeformableSetMesh(s.dfm, root ? s.nnodes : 0, nodes.data(), root ? s.ntets : 0, tets.data(), body.data(), (PetscInt)names.size(), cnames.data()));

@@ -51,7 +51,8 @@ print("wrote " + d + "/balance.png")
 
 // The library names bodies by rigid id ("bodies 3 and 5", "rigid body 3") or by
 // name ("deformable body 'slab'", "bodies 'a' and 'b'"): add the scene's names
-// and where each body is written, and start with the first body's file:line:col.
+// and where each body is written, and start with the first body's file:line:col
+// ("body 'slab': fracture zone 1": that of the body's fracture_zone[1]).
 std::string NameBodies(const Scene &sc, std::string msg) {
   if (msg.rfind(sc.file + ":", 0) == 0) return msg; // the driver's own message, already placed
   std::vector<const Body *> rigid;
@@ -87,6 +88,11 @@ std::string NameBodies(const Scene &sc, std::string msg) {
     msg = done + msg;
   }
   if (std::regex_search(msg, m, std::regex("deformable body '([^']*)'"))) msg = m.prefix().str() + "deformable body " + by_name(m[1]) + m.suffix().str();
+  if (std::regex_search(msg, m, std::regex("body '([^']*)': fracture zone (\\d+)")) && first.empty()) { // the library counts a body's zones in the scene's order
+    const Body  *b = sc.FindBody(m[1]);
+    const size_t z = std::stoul(m[2]);
+    if (b && z < b->fracture_zones.size()) first = b->fracture_zones[z].where;
+  }
   return (first.empty() ? sc.file : first) + ": " + msg;
 }
 

@@ -391,7 +391,15 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const PetscInt nbodies = (PetscInt)sc.bodies.size();
   PetscCall(PetscPrintf(comm, "%s%s%s: %d bodies (%d rigid, %d deformable), %" PetscInt_FMT " tetrahedra, %" PetscInt_FMT " nodes (%" PetscInt_FMT " fixed, %" PetscInt_FMT " moved), %" PetscInt_FMT " degrees of freedom, %d ranks\n", sc.file.c_str(),
                         sc.title.empty() ? "" : " -- ", sc.title.c_str(), (int)nbodies, (int)s.rigid_bodies.size(), (int)s.deformable_bodies.size(), s.ntets, s.nnodes, s.nfixed_nodes, s.nmoved_nodes, s.ndofs, (int)size));
-  if (s.njoints > 0) PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated\n", s.njoints, s.nnodes));
+  if (s.njoints > 0) {
+    std::string zoned; // the bodies split in their fracture zones only
+    int         nzoned = 0;
+    for (int i : s.deformable_bodies)
+      if (!sc.bodies[i].fracture_zones.empty() && nzoned++ < 3) zoned += (zoned.empty() ? "'" : ", '") + sc.bodies[i].name + "'";
+    if (nzoned > 3) zoned += " and " + std::to_string(nzoned - 3) + " more";
+    if (nzoned) zoned = "; " + zoned + (nzoned > 1 ? ": only those in their fracture_zone" : ": only those in its fracture_zone");
+    PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own%s; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated\n", s.njoints, zoned.c_str(), s.nnodes));
+  }
   const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
   char         wj[64] = "";
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);

@@ -301,12 +301,12 @@ VelocityField ReadVelocityField(const Reader &r, const std::string &w, const YAM
 // fracture_zone: {min: [x, y, z], max: [x, y, z]} or a list of such boxes (world coordinates).
 std::vector<FractureZone> ReadFractureZones(const Reader &r, const std::string &w, const YAML::Node &n) {
   const char *shape = ": expected a box {min: [x, y, z], max: [x, y, z]} or a list of them";
-  if (!n.IsMap() && !(n.IsSequence() && n.size() > 0)) r.Fail(n, w + shape + Reader::Got(n));
+  if (!n.IsMap() && !(n.IsSequence() && n.size() > 0)) r.Fail(n, w + shape + (n.IsSequence() ? std::string(", got an empty list") : Reader::Got(n)));
   std::vector<FractureZone> zones;
   for (size_t i = 0; i < (n.IsMap() ? 1 : n.size()); ++i) {
     const YAML::Node  z  = n.IsMap() ? n : n[i];
     const std::string wz = n.IsMap() ? w : w + "[" + std::to_string(i) + "]";
-    if (!z.IsMap()) r.Fail(z, wz + shape + Reader::Got(z));
+    if (!z.IsMap()) r.Fail(z, wz + ": expected a box {min: [x, y, z], max: [x, y, z]}" + Reader::Got(z));
     r.Keys(z, wz, {"min", "max"});
     FractureZone Z;
     Z.where = r.At(z);
@@ -519,9 +519,10 @@ Scene ReadScene(const std::string &file, const char *text) {
       r.Fail(bodies[i]["material"], "body '" + b.name + "': material '" + b.material + "' is fracturable (fracture: at " + sc.FindMaterial(b.material)->fracture.where + "), and only deformable bodies fracture; give the body model: deformable, or a material without fracture:");
     if (!b.fracture_zones.empty()) {
       const Material *m = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
-      if (!(m && m->fracture.present))
-        r.Fail(bodies[i]["fracture_zone"], "body '" + b.name + "'.fracture_zone: " + (m ? "material '" + m->name + "' (" + m->where + ") is not fracturable (it has no fracture:)" : std::string("the body has no material")) +
-                                               "; a fracture zone limits where a fracturable body splits: give the material fracture: {...}, or remove fracture_zone");
+      if (!(m && m->fracture.present)) {
+        const std::string why = m ? "material '" + m->name + "' (" + m->where + ") is not fracturable (it has no fracture:)" : "the body has no material";
+        r.Fail(bodies[i]["fracture_zone"], "body '" + b.name + "'.fracture_zone: " + why + "; a fracture zone limits where a fracturable body splits: give the material fracture: {...}, or remove fracture_zone");
+      }
     }
     if (sc.periodic.Any() && b.model == "deformable") r.Fail(bodies[i]["model"] ? bodies[i]["model"] : bodies[i], "body '" + b.name + "': periodic boundaries (periodic: at " + sc.periodic.where + ") hold rigid bodies and spheres only; this body is deformable");
     if (b.model == "deformable") {
