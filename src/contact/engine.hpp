@@ -51,6 +51,8 @@ struct Primitive {
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
   double       offset  = 0;  // a sphere of a clump: its centre's distance from the clump's centre of mass, and
   double       inertia = 0;  // the clump's least principal moment (the time-step check, GranularStableOmega)
+  std::int64_t group   = -1; // the adapter's: two primitives of one body with one group >= 0 are not paired (the mesh
+                             // adapter: an unsplit tetrahedron of a body with fracture zones, its fragment's id)
 };
 
 // The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,

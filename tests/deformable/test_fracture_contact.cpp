@@ -46,7 +46,7 @@
 namespace {
 constexpr double L = 0.4, E = 1.0e9, rho = 2000, nu = 0.25, V1 = 5, V2 = 0.5, penalty = 1.0e10;
 
-PetscErrorCode MakeBar(MPI_Comm comm, bool fracturable, FDEMDeformable *bar) {
+PetscErrorCode MakeBar(MPI_Comm comm, bool fracturable, FDEMDeformable *bar, bool allow_zone = true) {
   FDEMDeformable d;
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableCreate(comm, &d));
@@ -56,7 +56,7 @@ PetscErrorCode MakeBar(MPI_Comm comm, bool fracturable, FDEMDeformable *bar) {
   PetscCall(FDEMDeformableSetMeshBox(d, lo, hi, 8, 2, 2));
   PetscBool zone = PETSC_FALSE;
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
-  if (fracturable && zone) {
+  if (fracturable && zone && allow_zone) {
     const PetscReal zlo[3] = {0.15, -1, -1}, zhi[3] = {0.25, 1, 1};
     PetscCall(FDEMDeformableAddFractureZone(d, "box", zlo, zhi)); // the box mesh's one body
   }
@@ -281,8 +281,9 @@ PetscErrorCode Hinge(MPI_Comm comm, double HV, double t1, double HV2, double t2,
   PetscFunctionReturn(0);
 }
 
-// A ringing bar for 200 steps: its final state, and the contact primitives (contact on).
-PetscErrorCode Ringing(bool fracturable, bool contact, std::vector<PetscScalar> &state, PetscInt *primitives) {
+// A ringing bar for 200 steps: its final state, and the contact primitives and candidate
+// pairs (contact on); zone: the bar split only in the zone with -zone.
+PetscErrorCode Ringing(bool fracturable, bool contact, std::vector<PetscScalar> &state, PetscInt *primitives, PetscInt *pairs = nullptr, bool zone = true) {
   FDEMDeformable        d;
   FDEMDeformableContact c = nullptr;
   TS                    ts;
@@ -290,7 +291,7 @@ PetscErrorCode Ringing(bool fracturable, bool contact, std::vector<PetscScalar> 
   PetscInt              n;
   const PetscScalar    *u;
   PetscFunctionBeginUser;
-  PetscCall(MakeBar(PETSC_COMM_WORLD, fracturable, &d));
+  PetscCall(MakeBar(PETSC_COMM_WORLD, fracturable, &d, zone));
   PetscCall(FDEMDeformableSetVelocityField(d, Ring, nullptr));
   if (contact) {
     PetscCall(FDEMDeformableContactCreate(d, &c));
@@ -312,6 +313,7 @@ PetscErrorCode Ringing(bool fracturable, bool contact, std::vector<PetscScalar> 
     FDEMDeformableContactStats st;
     PetscCall(FDEMDeformableContactGetStats(c, &st));
     *primitives = st.primitives;
+    if (pairs) *pairs = st.candidate_pairs;
     PetscCall(FDEMDeformableContactDestroy(&c));
   }
   PetscCall(VecDestroy(&U));
@@ -353,8 +355,8 @@ int main(int argc, char **argv) {
   // 1-2. the intact fracturable bar: contact on = off bitwise; primitives of the unsplit bar
   {
     std::vector<PetscScalar> on, off, whole;
-    PetscInt                 pon, poff, pwhole;
-    PetscCall(Ringing(true, true, on, &pon));
+    PetscInt                 pon, poff, pwhole, pairs;
+    PetscCall(Ringing(true, true, on, &pon, &pairs));
     PetscCall(Ringing(true, false, off, &poff));
     PetscCall(Ringing(false, true, whole, &pwhole));
     int same = on.size() == off.size() && std::memcmp(on.data(), off.data(), on.size() * sizeof(PetscScalar)) == 0, all;
@@ -362,6 +364,15 @@ int main(int argc, char **argv) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "ringing intact fracturable bar: contact on and off %s; contact primitives %" PetscInt_FMT " (unsplit bar: %" PetscInt_FMT ")\n", all ? "bitwise equal" : "DIFFER", pon, pwhole));
     CHECK(all, "an intact fracturable bar moves differently with contact on");
     CHECK(pon == pwhole && pon > 0, "the intact fracturable bar lends %" PetscInt_FMT " contact tetrahedra, the unsplit bar %" PetscInt_FMT, pon, pwhole);
+    PetscBool zone = PETSC_FALSE;
+    PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
+    if (zone) { // the unsplit tetrahedra of one fragment are not paired: fewer pairs than the fully split bar's
+      std::vector<PetscScalar> split;
+      PetscInt                 psplit, pairs_split;
+      PetscCall(Ringing(true, true, split, &psplit, &pairs_split, false));
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "candidate pairs of the intact bar: %" PetscInt_FMT " split in the zone, %" PetscInt_FMT " split everywhere\n", pairs, pairs_split));
+      CHECK(pairs < pairs_split / 2, "the bar split in its zone has %" PetscInt_FMT " candidate pairs, the fully split bar %" PetscInt_FMT ": its unsplit tetrahedra should not pair with each other", pairs, pairs_split);
+    }
   }
 
   // 3-4. break, then press together, with and without contact
