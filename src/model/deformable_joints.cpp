@@ -34,7 +34,10 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   bool              any = false;
   for (std::size_t b = 0; b < mob.size(); ++b) any |= (split[b] = d->fracture.count(d->materials[mob[b]].name) > 0);
   // fracture zones: a body with zones is split only at the tetrahedra whose centroids lie in one
-  std::vector<char> in_zone;
+  // (one pass over the tetrahedra, each testing its own body's zones)
+  std::vector<char>                                          in_zone;
+  std::vector<const std::vector<std::array<double, 6>> *>   zones(mob.size(), nullptr);
+  std::vector<std::vector<long long>>                        held(mob.size());
   for (const auto &kv : d->fracture_zones) {
     const auto &names = d->mesh.body_names;
     const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
@@ -45,26 +48,31 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
     }
     if (!split[b])
       throw fdem::kernels::InputError("body '" + kv.first + "' has a fracture zone, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
-    if (in_zone.empty()) in_zone.assign(d->mesh.tets.size(), 1);
-    std::vector<int> held(kv.second.size(), 0);
+    zones[b] = &kv.second;
+    held[b].assign(kv.second.size(), 0);
+  }
+  if (!d->fracture_zones.empty()) {
+    in_zone.assign(d->mesh.tets.size(), 1);
     for (std::size_t t = 0; t < d->mesh.tets.size(); ++t) {
-      if (d->mesh.body[t] != b) continue;
+      const int b = d->mesh.body[t];
+      if (!zones[b]) continue;
       fdem::kernels::Vec3 c;
       for (int n : d->mesh.tets[t]) c = c + 0.25 * d->mesh.nodes[n];
       in_zone[t] = 0;
-      for (std::size_t z = 0; z < kv.second.size(); ++z) {
-        const auto &Z  = kv.second[z];
+      for (std::size_t z = 0; z < zones[b]->size(); ++z) {
+        const auto &Z  = (*zones[b])[z];
         const bool  in = c.x >= Z[0] && c.x <= Z[3] && c.y >= Z[1] && c.y <= Z[4] && c.z >= Z[2] && c.z <= Z[5];
-        held[z] += in;
+        held[b][z] += in;
         in_zone[t] = in_zone[t] || in;
       }
     }
-    for (std::size_t z = 0; z < held.size(); ++z)
-      if (!held[z]) {
-        const auto &Z = kv.second[z];
-        throw fdem::kernels::InputError("body '" + kv.first + "': fracture zone " + std::to_string(z) + " [" + std::to_string(Z[0]) + ", " + std::to_string(Z[1]) + ", " + std::to_string(Z[2]) + "] to [" + std::to_string(Z[3]) + ", " +
-                                        std::to_string(Z[4]) + ", " + std::to_string(Z[5]) + "] holds the centroid of none of its tetrahedra");
-      }
+    for (std::size_t b = 0; b < mob.size(); ++b)
+      for (std::size_t z = 0; z < held[b].size(); ++z)
+        if (!held[b][z]) {
+          const auto &Z = (*zones[b])[z];
+          throw fdem::kernels::InputError("body '" + d->mesh.body_names[b] + "': fracture zone " + std::to_string(z) + " [" + std::to_string(Z[0]) + ", " + std::to_string(Z[1]) + ", " + std::to_string(Z[2]) + "] to [" + std::to_string(Z[3]) + ", " +
+                                          std::to_string(Z[4]) + ", " + std::to_string(Z[5]) + "] holds the centroid of none of its tetrahedra");
+        }
   }
   if (!any) return;
   fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
