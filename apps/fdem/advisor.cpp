@@ -15,6 +15,10 @@ namespace {
 constexpr double kSphereStep   = 1.1e-6;
 constexpr double kContactPerSurfaceTet = 5.4e-6; // a pebble's step in a settled pile over its 26 skin tetrahedra
 constexpr double kDeformPerTet = 3.8e-8;
+// A fracturable body's step over the unsplit body's, less one, per share of its tetrahedra
+// split (bench_fracturable -n 16, doc/fracture.md "Fracture zones": 12 times split
+// everywhere; 1.8, 2.2 and 3.3 times with a sixteenth, an eighth and a quarter split).
+constexpr double kSplitExtra = 11;
 
 
 
@@ -115,7 +119,21 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
     a.why   = "it has node sets or a velocity field (only a mesh has nodes); " + a.why;
   } else if (mm && mm->fracture.present) {
     a.model = "deformable";
-    a.why   = std::string("its material fractures") + (b.fracture_zones.empty() ? "" : " (in its fracture_zone)") + "; " + a.why;
+    // the share of its tetrahedra split: all without zones, else those whose placed centroids lie in one
+    double split = 1;
+    if (!b.fracture_zones.empty() && meshed && ntet > 0) {
+      double in = 0;
+      for (const auto &T : mesh.tets) {
+        const Vec3 c = b.position + b.rotation * (0.25 * (mesh.nodes[T[0]] + mesh.nodes[T[1]] + mesh.nodes[T[2]] + mesh.nodes[T[3]]));
+        bool       any = false;
+        for (const FractureZone &z : b.fracture_zones) any = any || (c.x >= z.lo.x && c.x <= z.hi.x && c.y >= z.lo.y && c.y <= z.hi.y && c.z >= z.lo.z && c.z <= z.hi.z);
+        in += any;
+      }
+      split = in / ntet;
+    }
+    if (a.cost[2] >= 0) a.cost[2] += kDeformPerTet * ntet * kSplitExtra * split;
+    if (b.fracture_zones.empty()) a.why = "its material fractures (split everywhere: about " + Fmt("%.0f", 1 + kSplitExtra) + " times the unsplit body's step; a fracture_zone where cracks may run costs less); " + a.why;
+    else a.why = "its material fractures (in its fracture_zone" + (meshed ? Fmt(": %.0f%% of its tetrahedra split, about %.2g times the unsplit body's step", 100 * split, 1 + kSplitExtra * split) : std::string()) + "); " + a.why;
   } else if (b.fixed || (b.moved && b.model != "deformable")) {
     a.model = ball ? "sphere" : "rigid";
     a.why   = "it is held (fixed or moved): its strain does not change the others' motion";
