@@ -107,19 +107,10 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
       if (hmin < 1e300) a.dt_deformable = 2.0 / (2 * cp / hmin); // K_crit 2 (cd) over omega = 2 c_p / h_min
     }
   } else a.why = "its material has no young: it cannot deform here";
-  // the rules, in order
-  const Material *mm = m;
-  if (b.shape.kind == ShapeKind::Spheres) { // its cost: that of its spheres; it has no mesh to deform
-    a.model   = "rigid";
-    a.why     = "a clump of spheres is a rigid body";
-    a.cost[0] = a.cost[2] = -1;
-    a.cost[1] = kSphereStep * (double)b.shape.radii.size();
-  } else if (b.fix.kind != NodeSet::None || (b.moved && b.model == "deformable") || b.velocity_field.kind != VelocityField::None) {
-    a.model = "deformable";
-    a.why   = "it has node sets or a velocity field (only a mesh has nodes); " + a.why;
-  } else if (mm && mm->fracture.present) {
-    a.model = "deformable";
-    // the share of its tetrahedra split: all without zones, else those whose placed centroids lie in one
+  // a fracturable material: its tetrahedra split (all without zones, else those whose placed
+  // centroids lie in one) cost more as a deformable body (doc/fracture.md, "Fracture zones")
+  std::string frac;
+  if (m && m->fracture.present && b.shape.kind != ShapeKind::Spheres) {
     double split = 1;
     if (!b.fracture_zones.empty() && meshed && ntet > 0) {
       double in = 0;
@@ -132,8 +123,23 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
       split = in / ntet;
     }
     if (a.cost[2] >= 0) a.cost[2] += kDeformPerTet * ntet * kSplitExtra * split;
-    if (b.fracture_zones.empty()) a.why = "its material fractures (split everywhere: about " + Fmt("%.0f", 1 + kSplitExtra) + " times the unsplit body's step; a fracture_zone where cracks may run costs less); " + a.why;
-    else a.why = "its material fractures (in its fracture_zone" + (meshed ? Fmt(": %.0f%% of its tetrahedra split, about %.2g times the unsplit body's step", 100 * split, 1 + kSplitExtra * split) : std::string()) + "); " + a.why;
+    if (b.fracture_zones.empty()) frac = "fracturable, split everywhere: about " + Fmt("%.0f", 1 + kSplitExtra) + " times the unsplit body's step; a fracture_zone where cracks may run costs less";
+    else if (meshed) frac = Fmt("fracturable in its fracture_zone: %.0f%% of its tetrahedra split, about %.2g times the unsplit body's step", 100 * split, 1 + kSplitExtra * split);
+    else frac = "fracturable in its fracture_zone";
+  }
+  // the rules, in order
+  const Material *mm = m;
+  if (b.shape.kind == ShapeKind::Spheres) { // its cost: that of its spheres; it has no mesh to deform
+    a.model   = "rigid";
+    a.why     = "a clump of spheres is a rigid body";
+    a.cost[0] = a.cost[2] = -1;
+    a.cost[1] = kSphereStep * (double)b.shape.radii.size();
+  } else if (b.fix.kind != NodeSet::None || (b.moved && b.model == "deformable") || b.velocity_field.kind != VelocityField::None) {
+    a.model = "deformable";
+    a.why   = "it has node sets or a velocity field (only a mesh has nodes); " + a.why;
+  } else if (mm && mm->fracture.present) {
+    a.model = "deformable";
+    a.why   = "its material fractures; " + a.why;
   } else if (b.fixed || (b.moved && b.model != "deformable")) {
     a.model = ball ? "sphere" : "rigid";
     a.why   = "it is held (fixed or moved): its strain does not change the others' motion";
@@ -147,6 +153,7 @@ Advice AdviseBody(const Scene &sc, const Body &b, double strain_limit, bool cost
     a.model = "rigid";
     a.why   = "its shape matters to its contacts; " + a.why + (a.strain >= 0 ? Fmt(" below the limit %.2g", strain_limit) : "");
   }
+  if (a.model == "deformable" && !frac.empty()) a.why += "; " + frac;
   return a;
 }
 

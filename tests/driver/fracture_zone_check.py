@@ -37,6 +37,18 @@ r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
 if r.returncode != 0:
     sys.exit(f"FAIL: fdem check {whole}: exit status {r.returncode}\n{r.stdout[-1500:]}{r.stderr[-1500:]}")
 n_whole = joints(r.stdout, whole)
+# the model advisor counts the split: everywhere for WHOLE, the zone's share of the tetrahedra
+# for SCENE (checked against the share of the bar's length the zone covers)
+if "split everywhere" not in r.stdout:
+    sys.exit(f"FAIL: fdem check {whole}: the advisor does not say the body is split everywhere")
+cmd = [mpiexec, "--oversubscribe", "-n", "1", fdem, "check", scene, "-fdem_progress", "0"]
+print("$ " + " ".join(cmd), flush=True)
+rz = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+m = re.search(r"in its fracture_zone: (\d+)% of its tetrahedra split", rz.stdout)
+share = round(100 * (hi[2] - lo[2]) / 0.1)  # the bar is 0.1 m long along z, the zone across it
+print(f"advisor: {m.group(0) if m else 'no share of the tetrahedra split'} (the zone covers {share}% of the bar)")
+if rz.returncode != 0 or not m or int(m.group(1)) != share:
+    sys.exit(f"FAIL: fdem check {scene}: the advisor should give the share of tetrahedra split, {share}%")
 runs = {}
 for n in (1, 2):
     out = os.path.join(root, f"np{n}")
