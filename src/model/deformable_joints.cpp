@@ -27,6 +27,7 @@ static_assert(sizeof(JointLaw) == 14 * sizeof(double), "JointLaw is sent as its 
 
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
+  d->split_tet.clear();
   d->joints_input.clear();
   d->laws_input.clear();
   if (d->fracture.empty()) return;
@@ -76,6 +77,8 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   }
   if (!any) return;
   fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
+  d->split_tet.resize(d->mesh.tets.size());
+  for (std::size_t t = 0; t < d->split_tet.size(); ++t) d->split_tet[t] = split[d->mesh.body[t]] && (in_zone.empty() || in_zone[t]);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;

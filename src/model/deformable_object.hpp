@@ -82,6 +82,7 @@ struct _n_FDEMDeformable {
   std::map<std::string, fdem::kernels::JointMaterial> fracture; // by material name: its bodies are fracturable
   std::map<std::string, std::vector<std::array<double, 6>>> fracture_zones; // by body name: boxes (lo, hi) that limit its split
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
+  std::vector<char>                       split_tet;      // rank 0, set-up: 1 for a tetrahedron with nodes of its own (partition weights)
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
   std::vector<PetscInt>                   owned_input;    // the input node of each owned node (FixNodes/MoveNodes/field ids; owned_gid unless split)

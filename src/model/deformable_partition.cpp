@@ -27,6 +27,12 @@ namespace {
 // The METIS weight of an element of material `mat`: its model's relative cost.
 idx_t Weight(FDEMDeformable d, int mat) { return fdem::kernels::MaterialModels()[d->materials[mat].model].cost; }
 
+// A split tetrahedron (nodes of its own, about two joints) costs about as much as this many
+// unsplit ones in a step (bench_fracturable: a body split everywhere 8 to 12 times the
+// unsplit body; doc/fracture.md, "Fracture zones"): its partition weight's factor, so that
+// a fracture zone or a fracturable body beside unsplit ones is spread over the ranks.
+constexpr idx_t kSplitWeight = 10;
+
 // Rank 0: one part per rank for every element (throws if METIS fails).
 void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vector<PetscInt> &part) {
   const auto &M  = d->mesh;
@@ -44,7 +50,7 @@ void Partition(FDEMDeformable d, const std::vector<int> &mat_of_body, std::vecto
   for (idx_t e = 0; e < ne; ++e) {
     eptr[e] = 4 * e;
     for (int a = 0; a < 4; ++a) eind[4 * (size_t)e + a] = P.empty() ? M.tets[e][a] : P[M.tets[e][a]];
-    vwgt[e] = Weight(d, mat_of_body[M.body[e]]);
+    vwgt[e] = Weight(d, mat_of_body[M.body[e]]) * (!d->split_tet.empty() && d->split_tet[e] ? kSplitWeight : 1);
   }
   eptr[ne] = 4 * ne;
   idx_t ne_ = ne, nnodes = nn, ncommon = 3, nparts = d->size, objval = 0;
@@ -358,6 +364,7 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   PetscCall(BuildLocal(d, orig, cellbody, dims[0]));
   PetscCall(SetUpJoints(d));
   d->split_parent.clear();
+  d->split_tet.clear();
   d->setup = true;
   if (d->view) {
     PetscReal w = 0;

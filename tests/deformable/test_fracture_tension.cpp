@@ -26,7 +26,9 @@
 //     to 1e-6.
 // With -zone the bar is fracturable only in its middle fifth, 0.4 < x < 0.6
 // (FDEMDeformableAddFractureZone): the same must hold, the rest of the bar being stiffer
-// (no joints there) and the work less.
+// (no joints there) and the work less, except that in 5. each joint breaks within one step
+// of one rank's (the partition weighs split cells: the middle layer straddles the ranks
+// otherwise, and which of its symmetric joints crosses its limit first is round-off).
 #include "common.hpp"
 
 #include <algorithm>
@@ -196,7 +198,24 @@ int main(int argc, char **argv) {
     const double dp = std::fabs(one.peak_force - res[1].peak_force) / one.peak_force, dg = std::fabs(one.dissipated - res[1].dissipated) / one.dissipated;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "1 rank vs %d ranks: peak force differs by %.2e, dissipated energy by %.2e (relative); the joints break in %d steps on one rank, %d on %d\n", size, dp, dg, (int)one.breaks.size(),
                           (int)res[1].breaks.size(), size));
-    CHECK(one.breaks == res[1].breaks, "%d ranks break the joints in other steps than one rank", size);
+    PetscBool zone = PETSC_FALSE;
+    PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-zone", &zone, nullptr));
+    if (!zone) CHECK(one.breaks == res[1].breaks, "%d ranks break the joints in other steps than one rank", size);
+    else { // each joint within one step of one rank's: N(s-1) <= N_ranks(s) <= N(s+1), N(s) the count broken after step s
+      // (the partition weighs split cells, so the layer's 8 symmetric joints straddle the ranks
+      // otherwise than without a zone, and round-off picks which of them crosses its limit a step first)
+      auto count = [](const std::vector<std::pair<PetscInt, PetscInt>> &b, PetscInt s) {
+        PetscInt n = 0;
+        for (const auto &e : b)
+          if (e.first <= s) n = e.second;
+        return n;
+      };
+      bool within = !one.breaks.empty() && !res[1].breaks.empty() && one.breaks.back().second == res[1].breaks.back().second;
+      for (const auto *b : {&one.breaks, &res[1].breaks})
+        for (const auto &e : *b)
+          for (PetscInt s = e.first - 1; s <= e.first + 1; ++s) within = within && count(one.breaks, s - 1) <= count(res[1].breaks, s) && count(res[1].breaks, s) <= count(one.breaks, s + 1);
+      CHECK(within, "%d ranks break the joints more than one step away from one rank", size);
+    }
     CHECK(dp < 1e-9, "%d ranks differ from one rank in the peak force by %g", size, dp);
     CHECK(dg < 1e-6, "%d ranks differ from one rank in the dissipated energy by %g", size, dg);
   }
