@@ -77,7 +77,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshCylinder(FDEMDeformable dfm, Pe
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetMeshFromGmsh(FDEMDeformable dfm, const char *path);
 
 /* Fracture (doc/fracture.md): the bodies of `material` become fracturable. At set-up
-   each of their tetrahedra gets its own four nodes and every face two of them shared
+   each of their tetrahedra gets its own four nodes (only those in the body's fracture
+   zones, if it has any: FDEMDeformableAddFractureZone) and every face two of them shared
    becomes a joint held by the cohesive law: tensile strength f_t (Pa), cohesion c (Pa),
    friction angle (degrees), fracture energies G_I and G_II (J/m^2) and the joint penalty
    (Pa). The split renumbers the nodes of those bodies; FixNodes, MoveNodes and the field

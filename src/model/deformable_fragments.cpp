@@ -5,27 +5,31 @@
 // A joint is broken when all three of its points are. The topology is computed where the
 // cells are, without gathering the mesh anywhere. Each rank first works out what it can
 // alone: the faces of its cells that are free (on the body's surface or on a broken joint)
-// and the broken joints that touch its cells, with an exchange each way over the joint SF (the rank
-// of tetrahedron b learns which of its faces are glued by an intact joint held elsewhere, and
-// the partner of a broken one); then two union-finds over its own nodes and cells: node keys
-// (copies glued by intact joints) and fragments (cells of one body sharing a node or held by
-// an intact joint). Every class carries a label, the smallest global id known to be in it.
-// The classes that reach other ranks are completed in a fixed number of steps: one exchange
-// of labels over the joint SF (triangle b's to the joint's rank) for the intact joints that
-// straddle two ranks, and over a second SF for the nodes that cells of a body share across
-// ranks (built by a rendezvous on each node's id), links each class at a rank boundary to the
-// classes it touches elsewhere; rank 0 gathers these links (two labels each) and the boundary
-// classes' flags, joins them with a union-find and sends every class back its component's smallest
-// label and flag. So every class ends with the smallest id in it, a fragment's id the same
-// on any number of ranks. FDEMDeformableGetLocalFragments sums each fragment's mass, momentum and cells where
-// its cells are and meets the sums at the rank id % size (a rendezvous), so each rank holds
-// its share; FDEMDeformableGetFragments gathers the shares on every rank. Cost of the
-// topology: a pass over the rank's cells, nodes and joints, two exchanges over the joint SF,
-// the rendezvous, one broadcast over the straddling joints, two over the shared nodes, and a
-// gather and a scatter of the boundary classes and their links (two for nodes, two for
-// cells). Memory per rank: its cells, nodes and joints and the classes at its rank
-// boundaries; rank 0 holds, while it joins them, the classes and links of all ranks'
-// boundaries (the partition's surface, not the mesh).
+// and the broken joints that touch its cells, with one reduction over the joint-face SF (the
+// rank of tetrahedron b learns which of its faces are glued by an intact joint held elsewhere,
+// and the partner of a broken one); then two union-finds over its own nodes and cells: node
+// keys (copies glued by intact joints) and fragments (cells of one body sharing a node or held
+// by an intact joint). Unsplit cells of a body with fracture zones share nodes like those of
+// a body that is not fracturable, and their nodes may be glued to split copies. Every class
+// carries a label, the smallest global id known to be in it. The classes that reach other
+// ranks are completed in a fixed number of steps: one exchange of labels (triangle b's node
+// labels over the joint SF, tetrahedron b's cell label over the joint-face SF, both to the
+// joint's rank) for the intact joints that straddle two ranks, and one over a second SF for
+// the nodes that cells of a body share across ranks (built by a rendezvous on each node's id),
+// link each class at a rank boundary to the classes it touches elsewhere; a node that ranks
+// share also links its class on each rank to its own id. Rank 0 gathers these links (two
+// labels each) and the boundary classes' flags, joins them with a union-find and sends every
+// class back its component's smallest label and flag. So every class ends with the smallest
+// id in it, a fragment's id the same on any number of ranks. FDEMDeformableGetLocalFragments
+// sums each fragment's mass, momentum and cells where its cells are and meets the sums at the
+// rank id % size (a rendezvous), so each rank holds its share; FDEMDeformableGetFragments
+// gathers the shares on every rank. Cost of the topology: a pass over the rank's cells,
+// nodes and joints, a reduction and a broadcast over the joint-face SF, one broadcast over
+// the straddling joints, the rendezvous and two exchanges over the shared nodes, and a gather
+// and a scatter of the boundary classes and their links (two for nodes, two for cells).
+// Memory per rank: its cells, nodes and joints and the classes at its rank boundaries; rank
+// 0 holds, while it joins them, the classes and links of all ranks' boundaries (the
+// partition's surface, not the mesh).
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 

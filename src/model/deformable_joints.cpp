@@ -1,6 +1,7 @@
 // Deformable bodies, fracture joints (doc/fracture.md): the bodies of a
 // fracturable material are split at set-up (every tetrahedron its own nodes,
-// a joint on every face two of them shared); each joint is computed by the
+// or only those in the body's fracture zones; a joint on every face a split
+// tetrahedron shares with another of its body); each joint is computed by the
 // rank that holds its tetrahedron a, which reads triangle b's nodes in place
 // when they are on that rank too, and otherwise gets their coordinates through
 // a PetscSF and returns their forces through it.
