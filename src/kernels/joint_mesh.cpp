@@ -119,21 +119,24 @@ SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_bod
   s.mesh.tet_line = mesh.tet_line;
   s.mesh.warnings = mesh.warnings;
   s.mesh.tets.resize(nt);
+  s.split.resize(nt);
   std::vector<int> kept(mesh.nodes.size(), -1); // new id of a node of an unsplit tetrahedron
   auto add = [&](int old) {
     s.mesh.nodes.push_back(mesh.nodes[old]);
     s.parent.push_back(old);
     return static_cast<int>(s.mesh.nodes.size()) - 1;
   };
-  for (int t = 0; t < nt; ++t)
+  for (int t = 0; t < nt; ++t) {
+    s.split[t] = split(t);
     for (int j = 0; j < 4; ++j) {
       const int old = mesh.tets[t][j];
-      if (split(t)) s.mesh.tets[t][j] = add(old);
+      if (s.split[t]) s.mesh.tets[t][j] = add(old);
       else {
         if (kept[old] < 0) kept[old] = add(old);
         s.mesh.tets[t][j] = kept[old];
       }
     }
+  }
   // joints: faces held by exactly two tetrahedra of one fracturable body, one of them split
   // at least (triangle a on a split one, so that a joint's side a has nodes of its own)
   const std::vector<TetFace> faces = SortedFaces(mesh.tets);

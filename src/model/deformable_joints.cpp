@@ -78,8 +78,6 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   }
   if (!any) return;
   fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
-  d->split_tet.resize(d->mesh.tets.size());
-  for (std::size_t t = 0; t < d->split_tet.size(); ++t) d->split_tet[t] = split[d->mesh.body[t]] && (in_zone.empty() || in_zone[t]);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;
@@ -119,6 +117,7 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   d->joint_omega = std::sqrt(w2);
   d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
+  d->split_tet    = std::move(s.split);
   d->joints_input = std::move(s.joints);
 }
 

@@ -102,6 +102,7 @@ TEST(JointMesh, ZoneSplitsOnlyFlaggedTetrahedra) {
   for (int t = 0; t < nt; ++t) nz += zone[t] = m.body[t] == 0 && Centroid(m, t).x < 1.0 / 3;
   ASSERT_EQ(nz, 6 * 2 * 2);
   const SplitMesh s = SplitForJoints(m, {1, 0}, zone);
+  EXPECT_EQ(s.split, zone); // the tetrahedra that got nodes of their own (the partition weighs them)
   // nodes: four per flagged tetrahedron, and each input node used by an unflagged one once
   std::set<int> kept;
   for (int t = 0; t < nt; ++t)

@@ -23,6 +23,7 @@ struct SplitMesh {
   TetMesh mesh;                 // the split mesh: same tetrahedra in the same order, bodies and names
   std::vector<int> parent;      // per split node: the node of the input mesh it was copied from
   std::vector<JointFace> joints; // in the order of the sorted face keys (deterministic)
+  std::vector<char> split;      // per tetrahedron: 1 when it got nodes of its own
 };
 
 // Splits the tetrahedra of the bodies with split_body[b] != 0 (one entry per
