@@ -40,6 +40,7 @@ typedef struct {
   PetscReal energy;          /* overlap energy at the last evaluation */
   PetscReal buffer;          /* search buffer in use (0 before the first evaluation with an automatic buffer) */
   PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
+  PetscReal onset;           /* the overlap energy that listings caused by fracture added at their state, summed (doc/fracture.md, "The handover to contact") */
 } FDEMContactStats;
 
 /* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve): a

@@ -122,9 +122,13 @@ typedef struct {
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointBreaks(FDEMDeformable dfm, PetscInt *count, FDEMJointBreak *breaks[]);
 /* The joints' energy (collective; each output may be NULL): `stored`, the recoverable
    energy of the joints at the state U (NULL: the stored positions), the free energy whose
-   derivatives are the joint tractions; `dissipated`, the energy their damage has
-   dissipated so far (the fracture energy spent; it never decreases). The work done on
-   the joints is stored + dissipated (doc/fracture.md, "Energy"). Both 0 without joints. */
+   derivatives are the joint tractions; `dissipated`, the energy fracture has taken out of
+   the scene so far: what the joints' damage dissipated (the fracture energy spent), plus
+   the compression energy joints held when they broke through and were removed, less the
+   contact energy their faces had when a contact object listed them (the handover to
+   contact; it may lower `dissipated` a little at such a listing). The work done on the
+   joints is stored + dissipated (doc/fracture.md, "Energy" and "The handover to
+   contact"). Both 0 without joints. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable dfm, Vec U, PetscReal *stored, PetscReal *dissipated);
 /* Writes (loads) the joints' state to (from) a viewer, e.g. an HDF5 file: `joint_damage`,
    3 damages per joint in the split's joint order (1 = broken; independent of the rank

@@ -225,6 +225,10 @@ PetscErrorCode Engine::ListAll() {
   PetscCall(FlushSprings());
   sp_.clear();
   PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
+  for (auto *a : adapters_) { // their selections brought up to date (a restart lists before its first evaluation)
+    PetscBool changed;
+    PetscCall(a->Changed(&changed));
+  }
   prim_.clear();
   PetscReal size_sum = 0;
   PetscInt  size_count = 0;
@@ -579,6 +583,107 @@ PetscErrorCode Engine::Search() {
 }
 
 // ------------------------------------------------------------------ evaluation
+PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
+  PetscReal             sums[2] = {0, 0};
+  std::array<double, 3> deep{0, -1, -1};
+  PetscFunctionBegin;
+  *e = 0;
+  if (sphere_only_) PetscFunctionReturn(0);
+  PetscReal ratio = searched_ ? 0 : PETSC_MAX_REAL, gratio;
+  if (searched_)
+    for (auto *a : adapters_) {
+      PetscReal r;
+      PetscCall(a->MoveRatio(&r));
+      ratio = std::max(ratio, r);
+    }
+  PetscCallMPI(MPI_Allreduce(&ratio, &gratio, 1, MPIU_REAL, MPI_MAX, comm_));
+  if (gratio > 1 || !(stats_.buffer > 0)) { // the pairs the current listing has at this state
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
+    PetscCall(Search());
+  } else {
+    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], nullptr));
+    PetscCall(UpdateGhosts(true, false));
+  }
+  PetscCall(PairLoop(false, sums, deep));
+  *e = sums[0];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep) {
+  const PetscReal pen = par_.penalty;
+  PetscFunctionBegin;
+  PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
+    fdem::kernels::TetPairContact pc, full;
+    std::array<Vec3, 4>           fa, fb, da, db;
+    // each tetrahedron's frame and current box once per evaluation, made when a pair first needs
+    // it (the arrays kept from one evaluation to the next: no allocation per evaluation)
+    if (!pairs_.empty()) {
+      frames_.resize(nl_ + ng_);
+      made_.assign(nl_ + ng_, 0);
+      cboxes_.resize(nl_ + ng_);
+      cmade_.assign(nl_ + ng_, 0);
+    }
+    auto frame = [&](int i, const char *name) -> const fdem::kernels::TetFrame & {
+      if (!made_[i]) {
+        fdem::kernels::MakeTetFrame(X(i), name, frames_[i]);
+        made_[i] = 1;
+      }
+      return frames_[i];
+    };
+    PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
+    auto cbox = [&](int i) -> const std::array<double, 6> & { // a tetrahedron is in many pairs
+      if (!cmade_[i]) {
+        CurrentBox(X(i), cboxes_[i]);
+        cmade_[i] = 1;
+      }
+      return cboxes_[i];
+    };
+    for (size_t q = 0; q < pairs_.size(); ++q) {
+      const auto &p = pairs_[q];
+      const Tet4 &a = X(p[0]), &b = X(p[1]);
+      if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
+      const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
+      // apart along the axis that separated the pair last time: no force, and no need to clip
+      if (sep_[q] && fdem::kernels::SeparatedAlong(sep_[q], a, ta, b, tb)) continue;
+      const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
+      const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
+      if (!f) { // the energy alone
+        if (hit) sums[0] += pc.energy, sums[1] += 1;
+        continue;
+      }
+      sep_[q] = hit ? 0 : (std::int8_t)fdem::kernels::SeparatingAxis(a, ta, b, tb);
+      if (!checked_initial_) {
+        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
+        // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)
+        const fdem::kernels::TetPairContact *chk  = &pc;
+        bool                                 chit = hit;
+        if ((pa & pb & 15) != 15) chit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, full), chk = &full;
+        const double ratio = chit ? chk->energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8) : 0;
+        if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
+      }
+      if (!hit) continue;
+      sums[0] += pc.energy;
+      sums[1] += 1;
+      fa = pc.fa;
+      fb = pc.fb;
+      if (with_v_) {
+        fdem::kernels::ContactDampingFriction(ta, tb, V(p[0]), V(p[1]), pc, par_.diss, da, db);
+        for (int k = 0; k < 4; ++k) {
+          fa[k] += da[k];
+          fb[k] += db[k];
+        }
+      }
+      Vertices &oa = p[0] < nl_ ? f_[p[0]] : gf_[p[0] - nl_], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
+      for (int k = 0; k < 4; ++k) {
+        oa[k] += fa[k];
+        ob[k] += fb[k];
+      }
+    }
+    return 0;
+  }));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Engine::EvaluateStill() {
   const PetscReal t = time_, last = last_time_;
   const bool      had = has_time_;
@@ -590,12 +695,26 @@ PetscErrorCode Engine::EvaluateStill() {
 }
 
 PetscErrorCode Engine::Evaluate() {
+  bool      pending       = false;
+  PetscReal listed_energy = 0;
+  Adapter  *changer = nullptr;
   PetscFunctionBegin;
-  for (auto *a : adapters_) { // primitives that appeared (fracture): list them again
+  // primitives that appeared (fracture): the contact energy of the listing so far at this state
+  // first, so that what the new listing adds is booked (Adapter::OnsetEnergy), then list again
+  if (listed_)
+    for (auto *a : adapters_) {
+      PetscBool p;
+      PetscCall(a->Pending(&p));
+      pending = pending || p == PETSC_TRUE;
+    }
+  if (pending) PetscCall(ListedEnergy(&listed_energy));
+  for (auto *a : adapters_) {
     PetscBool changed;
     PetscCall(a->Changed(&changed));
+    if (changed && !changer) changer = a;
     if (changed) listed_ = false;
   }
+  pending = pending && changer != nullptr; // (the same on every rank)
   if (!listed_) PetscCall(ListAll());
   if (!spheres_) PetscCall(CheckPenaltySet()); // with spheres: only when two tetrahedra meet
   if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the contact frequency against K_crit
@@ -642,74 +761,10 @@ PetscErrorCode Engine::Evaluate() {
       for (int i : touch_[k]) f_[first_[k] + i] = zero;
     std::fill(gf_.begin(), gf_.end(), zero);
   }
-  PetscReal             sums[3] = {0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot
-  std::array<double, 3> deep{0, -1, -1};  // worst initial overlap ratio, the pair
-  const PetscReal       pen = par_.penalty;
-  PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
-    fdem::kernels::TetPairContact pc, full;
-    std::array<Vec3, 4>           fa, fb, da, db;
-    // each tetrahedron's frame and current box once per evaluation, made when a pair first needs
-    // it (the arrays kept from one evaluation to the next: no allocation per evaluation)
-    if (!pairs_.empty()) {
-      frames_.resize(nl_ + ng_);
-      made_.assign(nl_ + ng_, 0);
-      cboxes_.resize(nl_ + ng_);
-      cmade_.assign(nl_ + ng_, 0);
-    }
-    auto frame = [&](int i, const char *name) -> const fdem::kernels::TetFrame & {
-      if (!made_[i]) {
-        fdem::kernels::MakeTetFrame(X(i), name, frames_[i]);
-        made_[i] = 1;
-      }
-      return frames_[i];
-    };
-    PetscCheck(pen > 0 || pairs_.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
-    auto cbox = [&](int i) -> const std::array<double, 6> & { // a tetrahedron is in many pairs
-      if (!cmade_[i]) {
-        CurrentBox(X(i), cboxes_[i]);
-        cmade_[i] = 1;
-      }
-      return cboxes_[i];
-    };
-    for (size_t q = 0; q < pairs_.size(); ++q) {
-      const auto &p = pairs_[q];
-      const Tet4 &a = X(p[0]), &b = X(p[1]);
-      if (!BoxesMeet(cbox(p[0]), cbox(p[1]))) continue;
-      const fdem::kernels::TetFrame &ta = frame(p[0], "a"), &tb = frame(p[1], "b");
-      // apart along the axis that separated the pair last time: no force, and no need to clip
-      if (sep_[q] && fdem::kernels::SeparatedAlong(sep_[q], a, ta, b, tb)) continue;
-      const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
-      const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
-      sep_[q]        = hit ? 0 : (std::int8_t)fdem::kernels::SeparatingAxis(a, ta, b, tb);
-      if (!checked_initial_) {
-        // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
-        // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)
-        const fdem::kernels::TetPairContact *chk  = &pc;
-        bool                                 chit = hit;
-        if ((pa & pb & 15) != 15) chit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, full), chk = &full;
-        const double ratio = chit ? chk->energy / (0.1 * std::min(Volume6(a), Volume6(b)) / 6 * pen / 8) : 0;
-        if (ratio > deep[0]) deep = {ratio, (double)p[0], (double)p[1]};
-      }
-      if (!hit) continue;
-      sums[0] += pc.energy;
-      sums[1] += 1;
-      fa = pc.fa;
-      fb = pc.fb;
-      if (with_v_) {
-        fdem::kernels::ContactDampingFriction(ta, tb, V(p[0]), V(p[1]), pc, par_.diss, da, db);
-        for (int k = 0; k < 4; ++k) {
-          fa[k] += da[k];
-          fb[k] += db[k];
-        }
-      }
-      Vertices &oa = p[0] < nl_ ? f_[p[0]] : gf_[p[0] - nl_], &ob = p[1] < nl_ ? f_[p[1]] : gf_[p[1] - nl_];
-      for (int k = 0; k < 4; ++k) {
-        oa[k] += fa[k];
-        ob[k] += fb[k];
-      }
-    }
-    return 0;
-  }));
+  PetscReal             sums[4] = {0, 0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot, onset
+  std::array<double, 3> deep{0, -1, -1};     // worst initial overlap ratio, the pair
+  PetscCall(PairLoop(true, sums, deep));
+  if (pending) sums[3] = sums[0] - listed_energy;
   if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
@@ -726,8 +781,12 @@ PetscErrorCode Engine::Evaluate() {
     PetscCall(PetscSFReduceEnd(sf_, vunit_, gf_.data(), f_.data(), MPI_SUM));
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Scatter(touch_[k], x_.data() + first_[k], f_.data() + first_[k]));
   }
-  PetscReal gsums[3];
-  PetscCallMPI(MPI_Allreduce(sums, gsums, 3, MPIU_REAL, MPI_SUM, comm_));
+  PetscReal gsums[4];
+  PetscCallMPI(MPI_Allreduce(sums, gsums, 4, MPIU_REAL, MPI_SUM, comm_));
+  if (pending) {
+    stats_.onset += gsums[3];
+    changer->OnsetEnergy(gsums[3]);
+  }
   const PetscInt gover = (PetscInt)gsums[2];
   if (gover > 0 && hist_overflow_ == 0)
     PetscCall(PetscPrintf(comm_, "WARNING %s: %" PetscInt_FMT " granular contacts found no free slot for their tangential spring (%d per sphere); they restart from zero at every step\n", who_.c_str(), gover, kHistorySlots));

@@ -132,6 +132,17 @@ public:
     *changed = PETSC_FALSE;
     return 0;
   }
+  // Will the next Changed() report a change? (no state changes; collective, the same answer
+  // on every rank). The engine then first takes the contact energy of the current listing at
+  // the current state, to book the energy the new listing adds (OnsetEnergy).
+  virtual PetscErrorCode Pending(PetscBool *pending) {
+    *pending = PETSC_FALSE;
+    return 0;
+  }
+  // After a listing that this adapter's change caused: the tetrahedron pairs' contact energy
+  // at that state rose by e (J, summed over ranks, the same on every rank) from the listing
+  // before to the new one (pairs met already overlapped: the faces of broken joints).
+  virtual void OnsetEnergy(PetscReal e) { (void)e; }
   // The largest contact frequency squared, omega^2, of this rank's bodies for the given
   // penalty (0: none). Collective.
   virtual PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) = 0;
@@ -258,6 +269,12 @@ public:
 
 private:
   PetscErrorCode ListAll();
+  // The tetrahedron pairs' contact energy of the current listing at the adapters' current
+  // positions (this rank's pairs; searches first when due). No force, no state change.
+  PetscErrorCode ListedEnergy(PetscReal *e);
+  // The tetrahedron pairs' loop (Evaluate's, with forces only when f is set): sums[0] += energy,
+  // sums[1] += touching pairs; deep: the initial-overlap check's worst pair (when f).
+  PetscErrorCode PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep);
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);

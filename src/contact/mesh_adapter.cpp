@@ -127,13 +127,24 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
   return Adapter::SelfPair(a, b);
 }
 
-PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
+PetscErrorCode MeshAdapter::Pending(PetscBool *pending) {
   PetscInt n, nd;
   PetscFunctionBegin;
-  *changed = PETSC_FALSE;
+  *pending = PETSC_FALSE;
   if (!fractured_) PetscFunctionReturn(0);
   PetscCall(fdem::model::DeformableJointCounts(d_, &n, &nd)); // the same on every rank
-  if (n == nbroken_ && (nd == ndamaged_ || !damaged_cells_)) PetscFunctionReturn(0);
+  *pending = n != nbroken_ || (nd != ndamaged_ && damaged_cells_) ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+void MeshAdapter::OnsetEnergy(PetscReal e) { fdem::model::DeformableAddOnset(d_, e); }
+
+PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
+  PetscBool pending;
+  PetscFunctionBegin;
+  *changed = PETSC_FALSE;
+  PetscCall(Pending(&pending));
+  if (!pending) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
   PetscCall(fdem::model::DeformableFractureTopology(d_, t));
   nbroken_  = t.nbroken;

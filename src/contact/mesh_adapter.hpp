@@ -38,6 +38,8 @@ public:
   bool           SelfPair(const Primitive &a, const Primitive &b) const override;
   // The number of broken joints changed: the cells are selected again (collective).
   PetscErrorCode Changed(PetscBool *changed) override;
+  PetscErrorCode Pending(PetscBool *pending) override;
+  void           OnsetEnergy(PetscReal e) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
   std::string    ElementName(const Primitive &p) const override;

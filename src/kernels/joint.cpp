@@ -281,10 +281,11 @@ double Compression(const JointLaw &L, const JointPoints &P, double dI[3], bool *
   *face             = I > mid * (1 + 1e-9); // equal to round-off when the whole face is pressed in: the midpoints' forces are kept
   return L.ft * L.inv_dn_peak * (*face ? I : mid);
 }
+// (JointElementEnergy's face rule, also for a joint whose points have all broken: the
+// compression it would keep if it stayed, JointRemovedCompression)
 double FaceJointEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   JointPoints P;
   if (!P.Set(xa, xb)) return 0;
-  if (JointBroken(state)) return 0;
   double e = 0;
   if (L.face_compression == 0) { // the points' rule: the law at the midpoints, its compression penalty kept by broken points
     for (int q = 0; q < 3; ++q)
@@ -392,6 +393,8 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     K[b] = L.shear_stiffness;
     for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
   }
+  bool was_broken[N]; // broken through before this evaluation
+  for (int b = 0; b < nb; ++b) was_broken[b] = JointBroken(B.state[b]);
   // The common case for every point, two joints an instruction: an undamaged point below
   // both peaks is elastic in tension, and its tractions and shear damage are those of
   // JointTractionAt, with the law's reciprocals (the same to round-off). fast = 0 marks the
@@ -436,11 +439,21 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       diss += G.w[b] * t.dissipated;
       sigma[q][b] = t.sigma, tau[q][b] = t.tau;
     }
-    if (B.dissipated[b]) *B.dissipated[b] += diss;
     if (JointBroken(state)) {
-      G.ok[b] = 0; // the faces are contact surfaces now
+      // the faces are contact surfaces now; a joint that broke through at this evaluation takes
+      // the compression its broken points kept with it: dissipated, so that no energy vanishes
+      // (the contact books what its faces then hold, doc/fracture.md, "The handover to contact")
+      if (!was_broken[b] && B.dissipated[b]) {
+        double xa[3][3], xb[3][3];
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) xa[i][k] = B.xa[3 * i + k][b], xb[i][k] = B.xb[3 * i + k][b];
+        diss += JointRemovedCompression(L, xa, xb);
+      }
+      if (B.dissipated[b]) *B.dissipated[b] += diss;
+      G.ok[b] = 0;
       continue;
     }
+    if (B.dissipated[b]) *B.dissipated[b] += diss;
     // A broken point of a joint that still holds (its other points intact) is not a contact
     // surface yet: it keeps the compression penalty, so that its faces cannot pass through each
     // other and meet the contact engine deeply overlapped when the joint breaks through.
@@ -487,9 +500,10 @@ double JointElementForces(const JointLaw &L, const double xa[3][3], const double
   return B.Dmax[0];
 }
 
-double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
+namespace {
+// JointElementEnergy, also for a joint whose points have all broken (which it takes as removed)
+double ElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
   if (L.face_compression != 0) return FaceJointEnergy(L, xa, xb, state);
-  if (JointBroken(state)) return 0;
   JointBlock B;
   B.n = 1;
   for (int i = 0; i < 3; ++i)
@@ -502,6 +516,17 @@ double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double
     if (!state[q].broken()) e += G.w[0] * JointStoredEnergy(L, G.dn[q][0], G.s[q][0], state[q]);
     else if (G.dn[q][0] < 0) e += G.w[0] * L.ft * G.dn[q][0] * G.dn[q][0] / L.dn_peak; // the compression penalty it keeps
   return e;
+}
+} // namespace
+
+double JointElementEnergy(const JointLaw &L, const double xa[3][3], const double xb[3][3], const JointState state[3]) {
+  return JointBroken(state) ? 0.0 : ElementEnergy(L, xa, xb, state);
+}
+
+double JointRemovedCompression(const JointLaw &L, const double xa[3][3], const double xb[3][3]) {
+  JointState broken[3];
+  for (auto &s : broken) s.SetDamage(1);
+  return ElementEnergy(L, xa, xb, broken);
 }
 
 } // namespace fdem::kernels

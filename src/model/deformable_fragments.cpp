@@ -228,6 +228,8 @@ PetscErrorCode fdem::model::DeformableHasJoints(FDEMDeformable d, PetscBool *has
   PetscFunctionReturn(0);
 }
 
+void fdem::model::DeformableAddOnset(FDEMDeformable d, PetscReal e) { d->onset += e; }
+
 PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableJointCounts"));

@@ -52,4 +52,10 @@ PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t)
 PetscErrorCode DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged);
 // Whether the mesh has fracture joints (the same on every rank).
 PetscErrorCode DeformableHasJoints(FDEMDeformable d, PetscBool *has);
+// A contact object tells the mesh that its contact energy changed by `e` (J, summed over ranks,
+// the same on every rank) when it listed the mesh's primitives anew at a fixed state (faces that
+// fracture exposed): the energy the contact took over from the removed joints, which the joints'
+// dissipated energy then loses (FDEMDeformableGetJointEnergy; doc/fracture.md, "The handover
+// to contact"). Not collective.
+void DeformableAddOnset(FDEMDeformable d, PetscReal e);
 } // namespace fdem::model

@@ -416,7 +416,7 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
     PetscCall(MPIU_Allreduce(loc, glob, 2, MPIU_REAL, MPIU_SUM, d->comm));
   }
   if (stored) *stored = glob[0];
-  if (dissipated) *dissipated = glob[1];
+  if (dissipated) *dissipated = glob[1] - d->onset; // the contact took that over from the removed joints
   PetscFunctionReturn(0);
 }
 
@@ -472,6 +472,42 @@ static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const cha
   PetscFunctionReturn(0);
 }
 
+// The contact energy taken over from removed joints (DeformableAddOnset): one number, saved by
+// rank 0 and read on every rank. A checkpoint written before it was kept has none: 0.
+static PetscErrorCode OnsetField(FDEMDeformable d, PetscViewer viewer, bool load) {
+  Vec         v;
+  PetscMPIInt rank;
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(d->comm, &rank));
+  if (load) {
+    PetscBool hdf5, has = PETSC_TRUE;
+    PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
+    if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_contact_onset", &has));
+    d->onset = 0;
+    if (!has) PetscFunctionReturn(0);
+  }
+  PetscCall(VecCreateMPI(d->comm, rank == 0 ? 1 : 0, 1, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "joint_contact_onset"));
+  if (!load) {
+    if (rank == 0) PetscCall(VecSetValue(v, 0, d->onset, INSERT_VALUES));
+    PetscCall(VecAssemblyBegin(v));
+    PetscCall(VecAssemblyEnd(v));
+    PetscCall(VecView(v, viewer));
+  } else {
+    const PetscScalar *a;
+    PetscReal          e = 0;
+    PetscCall(VecLoad(v, viewer));
+    PetscCall(VecGetArrayRead(v, &a));
+    if (rank == 0) e = PetscRealPart(a[0]);
+    PetscCall(VecRestoreArrayRead(v, &a));
+    PetscCallMPI(MPI_Bcast(&e, 1, MPIU_REAL, 0, d->comm));
+    PetscCheck(std::isfinite(e), d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved joint_contact_onset is not a finite number");
+    d->onset = e;
+  }
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
@@ -484,6 +520,7 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
   PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
+  PetscCall(OnsetField(d, viewer, false));
   PetscFunctionReturn(0);
 }
 
@@ -502,6 +539,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
+  PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     for (int q = 0; q < 3; ++q) {

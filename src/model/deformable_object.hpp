@@ -94,7 +94,8 @@ struct _n_FDEMDeformable {
   std::vector<fdem::kernels::JointLaw>    jlaw;           // their laws
   std::vector<std::array<fdem::kernels::JointState, 3>> jstate; // their point histories
   std::vector<PetscInt>                   jgid;           // their ids in the split's joint order (checkpoints)
-  std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J
+  std::vector<PetscReal>                  jdiss;          // the energy each has dissipated so far, J (with the compression it took when it was removed)
+  PetscReal                               onset = 0;      // the contact energy that pairs listed anew had when their listing changed (fracture), J, summed over ranks and contact objects; the same on every rank
   std::vector<PetscInt>                   jbody;          // their bodies
   std::vector<char>                       jgone;          // broken at all three points (and reported in jbreaks)
   std::vector<FDEMJointBreak>             jbreaks;        // this rank's breaks since FDEMDeformableGetJointBreaks last took them

@@ -133,11 +133,17 @@ namespace fdem::kernels {
 // nodal forces into fa[3][3] and fb[3][3] (fa = -fb summed: no net force) and
 // returns the largest damage. A broken point (state.broken()) adds nothing.
 // When dissipated is given, the energy (J) dissipated by this evaluation's growth of
-// the points' damage is added to it.
+// the points' damage is added to it, and, when the joint breaks through at this
+// evaluation, the compression it kept (JointRemovedCompression), which goes with it.
 double JointElementForces(const JointLaw &law, const double xa[3][3], const double xb[3][3], JointState state[3], double fa[3][3], double fb[3][3], double *dissipated = nullptr);
 // The energy (J) the joint element stores at these positions (JointStoredEnergy
 // at its three points, each weighing a third of the mid-surface area); no state change.
 double JointElementEnergy(const JointLaw &law, const double xa[3][3], const double xb[3][3], const JointState state[3]);
+// The compression energy (J) a joint element whose three points have all broken would still
+// store at these positions if it were kept (the penalty of its broken points, by the law's
+// compression rule; JointElementEnergy takes such a joint as removed and gives 0): the
+// energy its removal takes out of the body (doc/fracture.md, "The handover to contact").
+double JointRemovedCompression(const JointLaw &law, const double xa[3][3], const double xb[3][3]);
 
 // Joint elements a block at a time (the deformable model's loop): up to kJointBlock joints
 // with their coordinates component-major, so that the geometry, the law of the common
