@@ -400,7 +400,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       if (!sc.bodies[i].fracture_zones.empty() && nzoned++ < 3) zoned += (zoned.empty() ? "'" : ", '") + sc.bodies[i].name + "'";
     if (nzoned > 3) zoned += " and " + std::to_string(nzoned - 3) + " more";
     if (nzoned) zoned = "; " + zoned + (nzoned > 1 ? ": only those in their fracture_zone" : ": only those in its fracture_zone");
-    PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own%s; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated\n", s.njoints, zoned.c_str(), s.nnodes));
+    PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own%s; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated and their handover to contact took out\n", s.njoints, zoned.c_str(), s.nnodes));
   }
   const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
   char         wj[64] = "";

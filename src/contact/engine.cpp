@@ -583,13 +583,9 @@ PetscErrorCode Engine::Search() {
 }
 
 // ------------------------------------------------------------------ evaluation
-PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
-  PetscReal             sums[2] = {0, 0};
-  std::array<double, 3> deep{0, -1, -1};
-  PetscFunctionBegin;
-  *e = 0;
-  if (sphere_only_) PetscFunctionReturn(0);
+PetscErrorCode Engine::SearchDue(bool *due) {
   PetscReal ratio = searched_ ? 0 : PETSC_MAX_REAL, gratio;
+  PetscFunctionBegin;
   if (searched_)
     for (auto *a : adapters_) {
       PetscReal r;
@@ -597,7 +593,19 @@ PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
       ratio = std::max(ratio, r);
     }
   PetscCallMPI(MPI_Allreduce(&ratio, &gratio, 1, MPIU_REAL, MPI_MAX, comm_));
-  if (gratio > 1 || !(stats_.buffer > 0)) { // the pairs the current listing has at this state
+  *due = gratio > 1 || !(stats_.buffer > 0);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
+  PetscReal             sums[2] = {0, 0};
+  std::array<double, 3> deep{0, -1, -1};
+  bool                  due;
+  PetscFunctionBegin;
+  *e = 0;
+  if (sphere_only_) PetscFunctionReturn(0);
+  PetscCall(SearchDue(&due));
+  if (due) { // the pairs the current listing has at this state
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
     PetscCall(Search());
   } else {
@@ -609,7 +617,7 @@ PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep) {
+PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset) {
   const PetscReal pen = par_.penalty;
   PetscFunctionBegin;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
@@ -664,6 +672,7 @@ PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3>
       if (!hit) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
+      if (onset && !std::binary_search(old_pairs_.begin(), old_pairs_.end(), PairId(p[0], p[1]))) *onset += pc.energy;
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
@@ -707,7 +716,21 @@ PetscErrorCode Engine::Evaluate() {
       PetscCall(a->Pending(&p));
       pending = pending || p == PETSC_TRUE;
     }
-  if (pending) PetscCall(ListedEnergy(&listed_energy));
+  // Without a search due, the listing's pairs are all that touch now, and a new listing keeps them
+  // (fracture only adds primitives and pairs: damage never heals): what it adds at this state is
+  // the energy of its touching pairs that were not listed before, found by their keys. With a
+  // search due, the listing's energy is taken here (ListedEnergy) and subtracted.
+  bool by_keys = false;
+  if (pending) {
+    bool due;
+    PetscCall(SearchDue(&due));
+    by_keys = !due && !sphere_only_;
+    if (by_keys) {
+      old_pairs_.resize(pairs_.size());
+      for (size_t q = 0; q < pairs_.size(); ++q) old_pairs_[q] = PairId(pairs_[q][0], pairs_[q][1]);
+      std::sort(old_pairs_.begin(), old_pairs_.end());
+    } else PetscCall(ListedEnergy(&listed_energy));
+  }
   for (auto *a : adapters_) {
     PetscBool changed;
     PetscCall(a->Changed(&changed));
@@ -763,8 +786,9 @@ PetscErrorCode Engine::Evaluate() {
   }
   PetscReal             sums[4] = {0, 0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot, onset
   std::array<double, 3> deep{0, -1, -1};     // worst initial overlap ratio, the pair
-  PetscCall(PairLoop(true, sums, deep));
-  if (pending) sums[3] = sums[0] - listed_energy;
+  if (pending && by_keys) PetscCall(PairLoop(true, sums, deep, &sums[3]));
+  else PetscCall(PairLoop(true, sums, deep));
+  if (pending && !by_keys) sums[3] = sums[0] - listed_energy;
   if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there

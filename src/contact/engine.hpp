@@ -269,12 +269,20 @@ public:
 
 private:
   PetscErrorCode ListAll();
+  // Is a search due (some primitive moved beyond its margin since the last, or none yet)? Collective.
+  PetscErrorCode SearchDue(bool *due);
   // The tetrahedron pairs' contact energy of the current listing at the adapters' current
   // positions (this rank's pairs; searches first when due). No force, no state change.
   PetscErrorCode ListedEnergy(PetscReal *e);
   // The tetrahedron pairs' loop (Evaluate's, with forces only when f is set): sums[0] += energy,
-  // sums[1] += touching pairs; deep: the initial-overlap check's worst pair (when f).
-  PetscErrorCode PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep);
+  // sums[1] += touching pairs; deep: the initial-overlap check's worst pair (when f). With
+  // onset: the energy of the touching pairs that are not in old_pairs_ is added to it.
+  PetscErrorCode PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset = nullptr);
+  // A pair's identity across listings: its primitives' (key, kind), smaller first.
+  std::array<std::int64_t, 2> PairId(int i, int j) const {
+    const std::int64_t u = P(i).key * 4 + P(i).kind, v = P(j).key * 4 + P(j).kind;
+    return {std::min(u, v), std::max(u, v)};
+  }
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
   PetscErrorCode UpdateGhosts(bool x, bool v);
@@ -318,6 +326,7 @@ private:
   std::vector<std::uint16_t>    seen_;           // per own sphere: the spring slots a contact used at this evaluation
   std::vector<HistorySlot *>    hslots_;         // per own sphere: its spring slots, looked up once per evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
+  std::vector<std::array<std::int64_t, 2>> old_pairs_; // at a listing caused by fracture: the listing before's pairs (PairId, sorted)
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
