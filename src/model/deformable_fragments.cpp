@@ -12,24 +12,25 @@
 // by an intact joint). Unsplit cells of a body with fracture zones share nodes like those of
 // a body that is not fracturable, and their nodes may be glued to split copies. Every class
 // carries a label, the smallest global id known to be in it. The classes that reach other
-// ranks are completed in a fixed number of steps: one exchange of labels (triangle b's node
+// ranks are completed in two stages: one exchange of labels (triangle b's node
 // labels over the joint SF, tetrahedron b's cell label over the joint-face SF, both to the
 // joint's rank) for the intact joints that straddle two ranks, and one over a second SF for
 // the nodes that cells of a body share across ranks (built by a rendezvous on each node's id),
 // link each class at a rank boundary to the classes it touches elsewhere; a node that ranks
-// share also links its class on each rank to its own id. Rank 0 gathers these links (two
-// labels each) and the boundary classes' flags, joins them with a union-find and sends every
-// class back its component's smallest label and flag. So every class ends with the smallest
+// share also links its class on each rank to its own id. The labels and links form a graph
+// that SettleClasses spreads over the ranks (label L on rank L % size) and settles there in
+// rounds whose number grows with the logarithm of the longest chain of classes, giving every
+// class its component's smallest label and flag. So every class ends with the smallest
 // id in it, a fragment's id the same on any number of ranks. FDEMDeformableGetLocalFragments
 // sums each fragment's mass, momentum and cells where its cells are and meets the sums at the
 // rank id % size (a rendezvous), so each rank holds its share; FDEMDeformableGetFragments
 // gathers the shares on every rank. Cost of the topology: a pass over the rank's cells,
 // nodes and joints, a reduction and a broadcast over the joint-face SF, one broadcast over
-// the straddling joints, the rendezvous and two exchanges over the shared nodes, and a gather
-// and a scatter of the boundary classes and their links (two for nodes, two for cells).
-// Memory per rank: its cells, nodes and joints and the classes at its rank boundaries; rank
-// 0 holds, while it joins them, the classes and links of all ranks' boundaries (the
-// partition's surface, not the mesh).
+// the straddling joints, the rendezvous and two exchanges over the shared nodes, and the
+// rounds of SettleClasses (for nodes and for cells), each a few all-to-all exchanges of the
+// rank's share of the graph and one MPI_Allreduce. Memory per rank: its cells, nodes and
+// joints, the classes at its rank boundaries and its share of their graph; no rank holds
+// the whole graph (before 2026-11-29 rank 0 gathered it).
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -43,112 +44,198 @@
 using namespace fdem::model::deformable;
 
 namespace {
-// Union-find over a rank's nodes or cells whose root carries a label, the smallest global id
-// known to be in its class, and a flag (or-ed over the class).
-struct Classes {
-  std::vector<PetscInt> p, label;
-  std::vector<char>     flag;
+// Items of W integers each, sent to ranks and answered: Send delivers every item to its rank
+// (grouped by sender), Reply sends the receivers' answers (V integers per item, in the order
+// Send delivered them) back to the senders, in the senders' order. Collective.
+struct Router {
+  MPI_Comm                 comm;
+  PetscMPIInt              size;
+  std::vector<PetscMPIInt> sc, rc, sd, rd; // items sent to / received from each rank, and their offsets
+  std::vector<PetscInt>    slot;           // per item sent: its place in the send order
 
-  explicit Classes(const std::vector<PetscInt> &ids) : p(ids.size()), label(ids), flag(ids.size(), 0) { std::iota(p.begin(), p.end(), (PetscInt)0); }
-  PetscInt Find(PetscInt i) {
-    while (p[i] != i) i = p[i] = p[p[i]];
-    return i;
+  Router(MPI_Comm c, PetscMPIInt n) : comm(c), size(n), sc(n), rc(n), sd(n + 1), rd(n + 1) {}
+  PetscErrorCode Send(const std::vector<PetscMPIInt> &dest, int W, const std::vector<PetscInt> &items, std::vector<PetscInt> &recv) {
+    PetscFunctionBegin;
+    std::fill(sc.begin(), sc.end(), 0);
+    for (PetscMPIInt r : dest) ++sc[r];
+    PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm));
+    sd[0] = rd[0] = 0;
+    for (int r = 0; r < size; ++r) sd[r + 1] = sd[r] + sc[r], rd[r + 1] = rd[r] + rc[r];
+    std::vector<PetscMPIInt> at(sd.begin(), sd.end() - 1);
+    slot.resize(dest.size());
+    for (std::size_t i = 0; i < dest.size(); ++i) slot[i] = at[dest[i]]++;
+    std::vector<PetscInt> buf((std::size_t)W * dest.size());
+    for (std::size_t i = 0; i < dest.size(); ++i)
+      for (int k = 0; k < W; ++k) buf[(std::size_t)W * slot[i] + k] = items[(std::size_t)W * i + k];
+    recv.resize((std::size_t)W * rd[size]);
+    PetscCall(Move(W, buf, sc, sd, recv, rc, rd));
+    PetscFunctionReturn(0);
   }
-  void Unite(PetscInt a, PetscInt b) {
-    a = Find(a);
-    b = Find(b);
-    if (a == b) return;
-    if (label[b] < label[a]) std::swap(a, b);
-    p[b]    = a;
-    flag[a] = flag[a] | flag[b];
+  PetscErrorCode Reply(int V, const std::vector<PetscInt> &answers, std::vector<PetscInt> &back) {
+    std::vector<PetscInt> buf((std::size_t)V * sd[size]);
+    PetscFunctionBegin;
+    PetscCall(Move(V, answers, rc, rd, buf, sc, sd));
+    back.resize((std::size_t)V * slot.size());
+    for (std::size_t i = 0; i < slot.size(); ++i)
+      for (int k = 0; k < V; ++k) back[(std::size_t)V * i + k] = buf[(std::size_t)V * slot[i] + k];
+    PetscFunctionReturn(0);
   }
-  // what a class elsewhere that touches i says: its label L and flag f
-  void Lower(PetscInt i, PetscInt L, char f) {
-    const PetscInt r = Find(i);
-    if (L < label[r]) label[r] = L;
-    if (f) flag[r] = 1;
+
+private:
+  PetscErrorCode Move(int W, const std::vector<PetscInt> &out, const std::vector<PetscMPIInt> &oc, const std::vector<PetscMPIInt> &od, std::vector<PetscInt> &in, const std::vector<PetscMPIInt> &ic, const std::vector<PetscMPIInt> &id) {
+    std::vector<PetscMPIInt> c1(size), d1(size), c2(size), d2(size);
+    PetscFunctionBegin;
+    PetscCheck((long long)W * std::max(od[size], id[size]) <= INT_MAX, comm, PETSC_ERR_SUP, "DeformableFractureTopology: too many classes at the rank boundaries for one exchange");
+    for (int r = 0; r < size; ++r) c1[r] = W * oc[r], d1[r] = W * od[r], c2[r] = W * ic[r], d2[r] = W * id[r];
+    PetscCallMPI(MPI_Alltoallv(out.data(), c1.data(), d1.data(), MPIU_INT, in.data(), c2.data(), d2.data(), MPIU_INT, comm));
+    PetscFunctionReturn(0);
   }
-  PetscInt Label(PetscInt i) { return label[Find(i)]; }
 };
 
-// Completes the classes c that reach other ranks, in one gather and one scatter. Each rank
-// lists its classes at rank boundaries (the classes of the elements in `boundary`) by label,
-// with their flags, and the links `edges` (its class's label, the label of a class elsewhere
-// that touches it), as the one exchange of labels with the neighbouring ranks gave them. A
-// label names one class on a rank (the smallest global id in it), and a label met on two
-// ranks is one class (a node both ranks hold), so rank 0 joins the labels over the links of
-// all ranks (a union-find on the labels) and gives every class its component's smallest
-// label and the or of its flags. Rank 0 holds the graph of the classes at the rank
-// boundaries of all ranks (two integers a class and a link), not the mesh.
-PetscErrorCode Settle(MPI_Comm comm, Classes &c, const std::vector<PetscInt> &boundary, std::vector<std::array<PetscInt, 2>> &edges, PetscInt *nclasses) {
-  PetscMPIInt rank, size;
+} // namespace
+
+// Completes the classes c that reach other ranks. Each rank has its classes at rank boundaries
+// (the classes of the elements in `boundary`), by label, with their flags, and the links
+// `edges` (its class's label, the label of a class elsewhere that touches it), as the one
+// exchange of labels with the neighbouring ranks gave them. A label names one class on a rank
+// (the smallest global id in it), and a label met on two ranks is one class (a node both ranks
+// hold), so the labels and the links form a graph, and every class must end with the smallest
+// label of its component and the or of its flags. The graph is spread over the ranks, label L
+// on rank L % size, and its components are found there in rounds, each with a fixed number of
+// exchanges (Shiloach-Vishkin with min-label hooking): every label takes the smallest parent
+// among its neighbours' (aggressive hooking) and gives it to its parent (hooking), then jumps to
+// its grandparent (shortcutting); a round ends with an MPI_Allreduce of whether anything changed.
+// A parent is always a label of the component and never grows, so the smallest label is its own
+// parent throughout and the fixed point gives it to every label of its component; the jumps
+// shorten chains geometrically, so the rounds grow with the logarithm of the longest chain of
+// classes, not with its length. No rank holds more than its share of the graph.
+PetscErrorCode fdem::model::SettleClasses(MPI_Comm comm, LabelClasses &c, const std::vector<PetscInt> &boundary, std::vector<std::array<PetscInt, 2>> &edges, PetscInt *nclasses, PetscInt *rounds) {
+  PetscMPIInt size;
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  std::vector<PetscInt> verts(boundary.size());
-  for (std::size_t k = 0; k < boundary.size(); ++k) verts[k] = c.Label(boundary[k]);
-  std::sort(verts.begin(), verts.end());
-  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   std::unordered_map<PetscInt, PetscInt> at; // a boundary class's label -> its element
   for (PetscInt b : boundary) at.emplace(c.Label(b), b);
-  // sent: the number of classes, then (label, flag) per class, then the links' two labels
-  std::vector<PetscInt> send;
-  send.reserve(1 + 2 * verts.size() + 2 * edges.size());
-  send.push_back((PetscInt)verts.size());
-  for (PetscInt L : verts) send.push_back(L), send.push_back(c.flag[c.Find(at[L])]);
-  for (const auto &e : edges) send.push_back(e[0]), send.push_back(e[1]);
-  const PetscMPIInt        nsend = send.size() <= (std::size_t)INT_MAX ? (PetscMPIInt)send.size() : -1; // -1: too many (rank 0 tells every rank)
-  std::vector<PetscMPIInt> cnt(size), off(size + 1, 0), rcnt(size), roff(size + 1, 0);
-  PetscCallMPI(MPI_Gather(&nsend, 1, MPI_INT, cnt.data(), 1, MPI_INT, 0, comm));
-  std::vector<PetscInt> all, back;
-  int                   err = 0;
-  if (rank == 0) {
-    long long total = 0;
-    for (int r = 0; r < size; ++r) total += cnt[r], err = err || cnt[r] < 0;
-    err = err || total > INT_MAX;
-    for (int r = 0; r < size && !err; ++r) off[r + 1] = off[r] + cnt[r];
-    if (!err) all.resize(total);
+  // the labels this rank knows (its boundary classes and the links' ends), each sent once to
+  // its host with the class's flag
+  std::vector<PetscInt> mine;
+  mine.reserve(at.size() + 2 * edges.size());
+  for (const auto &a : at) mine.push_back(a.first);
+  for (const auto &e : edges) mine.push_back(e[0]), mine.push_back(e[1]);
+  std::sort(mine.begin(), mine.end());
+  mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+  const auto host = [size](PetscInt L) { return (PetscMPIInt)(L % size); };
+  const auto idx  = [](const std::vector<PetscInt> &v, PetscInt L) { return (std::size_t)(std::lower_bound(v.begin(), v.end(), L) - v.begin()); };
+  std::vector<PetscMPIInt> dest(mine.size());
+  std::vector<PetscInt>    items(2 * mine.size()), recv, back;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    const auto it = at.find(mine[i]);
+    dest[i] = host(mine[i]), items[2 * i] = mine[i], items[2 * i + 1] = it == at.end() ? 0 : c.flag[c.Find(it->second)];
   }
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_SUP, "DeformableFractureTopology: the classes at the rank boundaries are too many to gather on one rank");
-  PetscCallMPI(MPI_Gatherv(send.data(), nsend, MPIU_INT, all.data(), cnt.data(), off.data(), MPIU_INT, 0, comm));
-  if (rank == 0) {
-    std::vector<PetscInt> labels; // every label sent, sorted: the union-find's elements
-    for (int r = 0; r < size; ++r) {
-      const PetscInt *A = &all[off[r]], nv = A[0], ne = (cnt[r] - 1 - 2 * nv) / 2;
-      for (PetscInt k = 0; k < nv; ++k) labels.push_back(A[1 + 2 * k]);
-      for (PetscInt k = 0; k < 2 * ne; ++k) labels.push_back(A[1 + 2 * nv + k]);
+  Router known(comm, size); // kept: every round asks the hosts about the same labels
+  PetscCall(known.Send(dest, 2, items, recv));
+  // the hosted labels: sorted, their parents f and flags
+  std::vector<PetscInt> lab;
+  for (std::size_t k = 0; k < recv.size(); k += 2) lab.push_back(recv[k]);
+  std::sort(lab.begin(), lab.end());
+  lab.erase(std::unique(lab.begin(), lab.end()), lab.end());
+  std::vector<PetscInt> f = lab, flag(lab.size(), 0);
+  for (std::size_t k = 0; k < recv.size(); k += 2) flag[idx(lab, recv[k])] |= recv[k + 1];
+  // each link by the positions of its ends in `mine`
+  std::vector<std::array<std::size_t, 2>> link(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e) link[e] = {idx(mine, edges[e][0]), idx(mine, edges[e][1])};
+  const auto asked = [&](std::vector<PetscInt> &out, const std::vector<PetscInt> &v) { // v at every label `known` delivered
+    out.resize(recv.size() / 2);
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = v[idx(lab, recv[2 * k])];
+  };
+  std::vector<PetscInt> ans, m, got;
+  PetscInt              n = 0;
+  for (PetscBool changed = PETSC_TRUE; changed; ++n) {
+    PetscCheck(n < 1000, comm, PETSC_ERR_PLIB, "DeformableFractureTopology: the classes at the rank boundaries did not settle in 1000 rounds");
+    const std::vector<PetscInt> f0 = f;
+    // aggressive hooking: the smallest parent among each label's neighbours, met at its host
+    asked(ans, f);
+    PetscCall(known.Reply(1, ans, back)); // back[i]: the parent of mine[i]
+    m = back;
+    for (const auto &l : link) m[l[0]] = std::min(m[l[0]], back[l[1]]), m[l[1]] = std::min(m[l[1]], back[l[0]]);
+    {
+      Router                   to_hosts(comm, size);
+      std::vector<PetscMPIInt> d(mine.size());
+      std::vector<PetscInt>    it(2 * mine.size());
+      for (std::size_t i = 0; i < mine.size(); ++i) d[i] = host(mine[i]), it[2 * i] = mine[i], it[2 * i + 1] = m[i];
+      PetscCall(to_hosts.Send(d, 2, it, got));
     }
-    std::sort(labels.begin(), labels.end());
-    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
-    Classes    g(labels);
-    const auto idx = [&](PetscInt L) { return (PetscInt)(std::lower_bound(labels.begin(), labels.end(), L) - labels.begin()); };
-    for (int r = 0; r < size; ++r) {
-      const PetscInt *A = &all[off[r]], nv = A[0], ne = (cnt[r] - 1 - 2 * nv) / 2;
-      for (PetscInt k = 0; k < nv; ++k) g.Lower(idx(A[1 + 2 * k]), A[1 + 2 * k], (char)A[2 + 2 * k]);
-      for (PetscInt k = 0; k < ne; ++k) g.Unite(idx(A[1 + 2 * nv + 2 * k]), idx(A[2 + 2 * nv + 2 * k]));
+    std::vector<PetscInt> mh = f;
+    for (std::size_t k = 0; k < got.size(); k += 2) {
+      PetscInt &x = mh[idx(lab, got[k])];
+      x           = std::min(x, got[k + 1]);
     }
-    *nclasses = (PetscInt)labels.size();
-    for (int r = 0; r < size; ++r) { // back: (label, flag) of each class, in the order sent
-      const PetscInt *A  = &all[off[r]];
-      const PetscInt  nv = A[0];
-      rcnt[r]            = (PetscMPIInt)(2 * nv);
-      roff[r + 1]        = roff[r] + rcnt[r];
-      for (PetscInt k = 0; k < nv; ++k) {
-        const PetscInt i = idx(A[1 + 2 * k]);
-        back.push_back(g.Label(i));
-        back.push_back(g.flag[g.Find(i)]);
-      }
+    // hooking: each label's parent takes the smallest it saw (f[f[v]] = min(f[f[v]], m[v]))
+    {
+      Router                   to_parents(comm, size);
+      std::vector<PetscMPIInt> d(lab.size());
+      std::vector<PetscInt>    it(2 * lab.size());
+      for (std::size_t v = 0; v < lab.size(); ++v) d[v] = host(f0[v]), it[2 * v] = f0[v], it[2 * v + 1] = mh[v];
+      PetscCall(to_parents.Send(d, 2, it, got));
     }
+    for (std::size_t v = 0; v < lab.size(); ++v) f[v] = std::min(f[v], mh[v]);
+    for (std::size_t k = 0; k < got.size(); k += 2) {
+      PetscInt &x = f[idx(lab, got[k])];
+      x           = std::min(x, got[k + 1]);
+    }
+    // shortcutting: each label jumps to its parent's parent
+    {
+      Router                   to_parents(comm, size);
+      std::vector<PetscMPIInt> d(lab.size());
+      std::vector<PetscInt>    it(lab.size());
+      for (std::size_t v = 0; v < lab.size(); ++v) d[v] = host(f[v]), it[v] = f[v];
+      PetscCall(to_parents.Send(d, 1, it, got));
+      std::vector<PetscInt> grand(got.size());
+      for (std::size_t k = 0; k < got.size(); ++k) grand[k] = f[idx(lab, got[k])];
+      PetscCall(to_parents.Reply(1, grand, back));
+      for (std::size_t v = 0; v < lab.size(); ++v) f[v] = std::min(f[v], back[v]);
+    }
+    PetscBool mine_changed = f == f0 ? PETSC_FALSE : PETSC_TRUE;
+    PetscCallMPI(MPIU_Allreduce(&mine_changed, &changed, 1, MPIU_BOOL, MPI_LOR, comm));
   }
-  std::vector<PetscInt> mine(2 * verts.size());
-  PetscCallMPI(MPI_Scatterv(back.data(), rcnt.data(), roff.data(), MPIU_INT, mine.data(), (PetscMPIInt)mine.size(), MPIU_INT, 0, comm));
-  for (std::size_t k = 0; k < verts.size(); ++k) c.Lower(at[verts[k]], mine[2 * k], (char)mine[2 * k + 1]);
+  // the flags: or-ed at each component's smallest label, then read back by every label
+  {
+    Router                   to_roots(comm, size);
+    std::vector<PetscMPIInt> d(lab.size());
+    std::vector<PetscInt>    it(2 * lab.size());
+    for (std::size_t v = 0; v < lab.size(); ++v) d[v] = host(f[v]), it[2 * v] = f[v], it[2 * v + 1] = flag[v];
+    PetscCall(to_roots.Send(d, 2, it, got));
+    std::vector<PetscInt> rflag(lab.size(), 0);
+    for (std::size_t k = 0; k < got.size(); k += 2) rflag[idx(lab, got[k])] |= got[k + 1];
+    std::vector<PetscInt> ask(lab.size()), r;
+    std::vector<PetscInt> rec;
+    Router                from_roots(comm, size);
+    for (std::size_t v = 0; v < lab.size(); ++v) ask[v] = f[v];
+    PetscCall(from_roots.Send(d, 1, ask, rec));
+    r.resize(rec.size());
+    for (std::size_t k = 0; k < rec.size(); ++k) r[k] = rflag[idx(lab, rec[k])];
+    PetscCall(from_roots.Reply(1, r, back));
+    flag = back;
+  }
+  // every class at this rank's boundaries: its component's smallest label and flag
+  std::vector<PetscInt> both(2 * (recv.size() / 2));
+  for (std::size_t k = 0; k < recv.size() / 2; ++k) {
+    const std::size_t v = idx(lab, recv[2 * k]);
+    both[2 * k] = f[v], both[2 * k + 1] = flag[v];
+  }
+  PetscCall(known.Reply(2, both, back));
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    const auto it = at.find(mine[i]);
+    if (it != at.end()) c.Lower(it->second, back[2 * i], (char)back[2 * i + 1]);
+  }
+  PetscInt hosted = (PetscInt)lab.size();
+  PetscCallMPI(MPIU_Allreduce(&hosted, nclasses, 1, MPIU_INT, MPI_SUM, comm));
+  *rounds = n;
   PetscFunctionReturn(0);
 }
 
+namespace {
 // A joint with a point beyond its peak (softening or broken).
 bool JointDamaged(const std::array<fdem::kernels::JointState, 3> &st) { return st[0].D > 0 || st[1].D > 0 || st[2].D > 0; }
 
@@ -321,7 +408,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   }
   std::sort(pairs.begin(), pairs.end());
   // 2. This rank's classes: node keys (the nodes of a split cell's free faces flagged) and fragments.
-  Classes nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
+  LabelClasses nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
   for (PetscInt e = 0; e < nc; ++e)
     if (split(e))
       for (int o = 0; o < 4; ++o)
@@ -359,11 +446,11 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     cbnd.insert(cbnd.end(), vcell.begin(), vcell.end());
   }
   // 4. One exchange of labels with the neighbouring ranks links each class at a rank boundary
-  //    to the classes it touches elsewhere; then the links of all ranks settle the classes at
-  //    once (Settle: a gather on rank 0 and a scatter back), so the communication is a fixed
-  //    number of steps whatever the shape of the fragments.
+  //    to the classes it touches elsewhere; then the links of all ranks settle the classes
+  //    (SettleClasses: the graph spread over the ranks, in rounds that grow with the
+  //    logarithm of the longest chain of classes, whatever the shape of the fragments).
   std::vector<std::array<PetscInt, 2>> nedges, cedges; // (label here, label elsewhere)
-  if (d->jsf_remote) { // triangle b's labels to the joint's rank: a link per straddling intact joint (rank 0 joins both ways)
+  if (d->jsf_remote) { // triangle b's labels to the joint's rank: a link per straddling intact joint (the graph joins both ways)
     for (PetscInt l : remote_b) root[3 * l] = nodes.Label(l);
     for (PetscInt e = 0; e < nc; ++e) froot[12 * e] = froot[12 * e + 3] = froot[12 * e + 6] = froot[12 * e + 9] = cells.Label(e);
     PetscCall(PetscSFBcastBegin(d->jsf_remote, MPIU_INT, root.data(), leaf.data(), MPI_REPLACE));
@@ -398,10 +485,10 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         if (nodes.Label(l) != d->node_gid[l]) nedges.push_back({nodes.Label(l), d->node_gid[l]});
       }
   if (d->size > 1) {
-    PetscInt nn = 0, ncl = 0;
-    PetscCall(Settle(d->comm, nodes, nbnd, nedges, &nn));
-    PetscCall(Settle(d->comm, cells, cbnd, cedges, &ncl));
-    if (d->rank == 0) PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " node and %" PetscInt_FMT " cell classes at the rank boundaries, settled on rank 0\n", nn, ncl));
+    PetscInt nn = 0, ncl = 0, rn = 0, rcl = 0;
+    PetscCall(SettleClasses(d->comm, nodes, nbnd, nedges, &nn, &rn));
+    PetscCall(SettleClasses(d->comm, cells, cbnd, cedges, &ncl, &rcl));
+    if (d->rank == 0) PetscCall(PetscInfo(nullptr, "fracture topology: %" PetscInt_FMT " node and %" PetscInt_FMT " cell classes at the rank boundaries, settled in %" PetscInt_FMT " and %" PetscInt_FMT " rounds\n", nn, ncl, rn, rcl));
   }
   // 5. The answer per cell: its free faces and flags, its nodes' keys and its fragment's id
   //    (the smallest cell id in the fragment, the label of its class).

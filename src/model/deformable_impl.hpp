@@ -4,7 +4,9 @@
 #pragma once
 #include <fdem/deformable.h>
 
+#include <algorithm>
 #include <array>
+#include <numeric>
 #include <vector>
 
 namespace fdem::model {
@@ -52,6 +54,42 @@ PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t)
 PetscErrorCode DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged);
 // Whether the mesh has fracture joints (the same on every rank).
 PetscErrorCode DeformableHasJoints(FDEMDeformable d, PetscBool *has);
+
+// Union-find over a rank's nodes or cells whose root carries a label, the smallest global id
+// known to be in its class, and a flag (or-ed over the class).
+struct LabelClasses {
+  std::vector<PetscInt> p, label;
+  std::vector<char>     flag;
+
+  explicit LabelClasses(const std::vector<PetscInt> &ids) : p(ids.size()), label(ids), flag(ids.size(), 0) { std::iota(p.begin(), p.end(), (PetscInt)0); }
+  PetscInt Find(PetscInt i) {
+    while (p[i] != i) i = p[i] = p[p[i]];
+    return i;
+  }
+  void Unite(PetscInt a, PetscInt b) {
+    a = Find(a);
+    b = Find(b);
+    if (a == b) return;
+    if (label[b] < label[a]) std::swap(a, b);
+    p[b]    = a;
+    flag[a] = flag[a] | flag[b];
+  }
+  // what a class elsewhere that touches i says: its label L and flag f
+  void Lower(PetscInt i, PetscInt L, char f) {
+    const PetscInt r = Find(i);
+    if (L < label[r]) label[r] = L;
+    if (f) flag[r] = 1;
+  }
+  PetscInt Label(PetscInt i) { return label[Find(i)]; }
+};
+
+// Completes classes that reach other ranks (deformable_fragments.cpp, where the method is
+// described): c's classes at this rank's boundaries (those of the elements in `boundary`) and
+// the links `edges` (a class's label here, the label of a class elsewhere that touches it; sorted
+// and made unique in place) end with the smallest label of their component over all ranks and
+// the or of its flags. *nclasses: the labels in the graph, all ranks; *rounds: the rounds it
+// took. Collective.
+PetscErrorCode SettleClasses(MPI_Comm comm, LabelClasses &c, const std::vector<PetscInt> &boundary, std::vector<std::array<PetscInt, 2>> &edges, PetscInt *nclasses, PetscInt *rounds);
 // A contact object tells the mesh that its contact energy changed by `e` (J, summed over ranks,
 // the same on every rank) when it listed the mesh's primitives anew at a fixed state (faces that
 // fracture exposed): the energy the contact took over from the removed joints, which the joints'
