@@ -91,7 +91,10 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     p.surface = (std::int32_t)(surf & 0xF);
     p.mat     = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
     p.flags   = frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0;
-    p.group   = frac && (t->cell_free[e] & 0x40) ? (std::int64_t)t->cell_fragment[e] : -1;
+    // held by its fragment: an unsplit cell, or a split one none of whose joints is damaged
+    // (with the damaged cells in contact): SelfPair
+    const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
+    p.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);
@@ -100,10 +103,13 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
 }
 
 bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
-  // Two unsplit tetrahedra of one fragment (a body with fracture zones, outside them) are
-  // held together by the mesh, as in a body that is not fracturable: no broken joint lies
-  // between them (a broken joint has a split side), and the fragments of a body meet
-  // through the cells of two fragments.
+  // Two tetrahedra of one fragment that are held in it (unsplit ones of a body with fracture
+  // zones, and split ones none of whose joints is damaged) are not paired, as in a body that is
+  // not fracturable: no crack lies between them (its faces are damaged joints, whose
+  // tetrahedra are paired), so they could meet only if the fragment folded onto itself, and
+  // self-contact is not on for bodies. The fragments of a body meet through cells of two
+  // fragments, and a crack's sides through its damaged cells. So an intact fracturable body
+  // costs the contact what the same body unsplit does.
   if (a.group >= 0 && a.group == b.group) return false;
   if (fractured_ && fracturable_[a.body]) {
     const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
