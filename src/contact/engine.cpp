@@ -597,27 +597,7 @@ PetscErrorCode Engine::SearchDue(bool *due) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Engine::ListedEnergy(PetscReal *e) {
-  PetscReal             sums[2] = {0, 0};
-  std::array<double, 3> deep{0, -1, -1};
-  bool                  due;
-  PetscFunctionBegin;
-  *e = 0;
-  if (sphere_only_) PetscFunctionReturn(0);
-  PetscCall(SearchDue(&due));
-  if (due) { // the pairs the current listing has at this state
-    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
-    PetscCall(Search());
-  } else {
-    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(&touch_[k], x_.data() + first_[k], nullptr));
-    PetscCall(UpdateGhosts(true, false));
-  }
-  PetscCall(PairLoop(false, sums, deep));
-  *e = sums[0];
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset) {
+PetscErrorCode Engine::PairLoop(PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset) {
   const PetscReal pen = par_.penalty;
   PetscFunctionBegin;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
@@ -655,11 +635,7 @@ PetscErrorCode Engine::PairLoop(bool f, PetscReal sums[2], std::array<double, 3>
       if (sep_[q] && fdem::kernels::SeparatedAlong(sep_[q], a, ta, b, tb)) continue;
       const int  pa = surface_only_ ? P(p[0]).push : 15, pb = surface_only_ ? P(p[1]).push : 15;
       const bool hit = fdem::kernels::PotentialContactForce(a, ta, b, tb, pen, pen, pa, pb, pc);
-      if (!f) { // the energy alone
-        if (hit) sums[0] += pc.energy, sums[1] += 1;
-        continue;
-      }
-      sep_[q] = hit ? 0 : (std::int8_t)fdem::kernels::SeparatingAxis(a, ta, b, tb);
+      sep_[q]        = hit ? 0 : (std::int8_t)fdem::kernels::SeparatingAxis(a, ta, b, tb);
       if (!checked_initial_) {
         // the deep-overlap check: overlap energy above that of 10% of the smaller tetrahedron at mid
         // potential (with some faces only, pc.energy is a share: the pair's own, every face, once here)
@@ -704,32 +680,30 @@ PetscErrorCode Engine::EvaluateStill() {
 }
 
 PetscErrorCode Engine::Evaluate() {
-  bool      pending       = false;
-  PetscReal listed_energy = 0;
-  Adapter  *changer = nullptr;
+  bool     pending = false;
+  Adapter *changer = nullptr;
   PetscFunctionBegin;
-  // primitives that appeared (fracture): the contact energy of the listing so far at this state
-  // first, so that what the new listing adds is booked (Adapter::OnsetEnergy), then list again
+  // Primitives that appeared (fracture) are listed again, and the overlap energy the new listing
+  // adds at this state is booked (Adapter::OnsetEnergy): the listing so far, searched again
+  // first if a search is due, holds every pair that touches now, and a new listing keeps them
+  // (fracture only adds primitives and pairs: damage never heals), so what it adds is the energy
+  // of its touching pairs that the listing before did not have, found by their keys.
   if (listed_)
     for (auto *a : adapters_) {
       PetscBool p;
       PetscCall(a->Pending(&p));
       pending = pending || p == PETSC_TRUE;
     }
-  // Without a search due, the listing's pairs are all that touch now, and a new listing keeps them
-  // (fracture only adds primitives and pairs: damage never heals): what it adds at this state is
-  // the energy of its touching pairs that were not listed before, found by their keys. With a
-  // search due, the listing's energy is taken here (ListedEnergy) and subtracted.
-  bool by_keys = false;
-  if (pending) {
+  if (pending && !sphere_only_) {
     bool due;
     PetscCall(SearchDue(&due));
-    by_keys = !due && !sphere_only_;
-    if (by_keys) {
-      old_pairs_.resize(pairs_.size());
-      for (size_t q = 0; q < pairs_.size(); ++q) old_pairs_[q] = PairId(pairs_[q][0], pairs_[q][1]);
-      std::sort(old_pairs_.begin(), old_pairs_.end());
-    } else PetscCall(ListedEnergy(&listed_energy));
+    if (due) {
+      for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
+      PetscCall(Search());
+    }
+    old_pairs_.resize(pairs_.size());
+    for (size_t q = 0; q < pairs_.size(); ++q) old_pairs_[q] = PairId(pairs_[q][0], pairs_[q][1]);
+    std::sort(old_pairs_.begin(), old_pairs_.end());
   }
   for (auto *a : adapters_) {
     PetscBool changed;
@@ -755,15 +729,8 @@ PetscErrorCode Engine::Evaluate() {
   if (with_v_) v_.resize(nl_);
   // the re-search rule: some vertex moved more than its margin (at least half the buffer) since
   // the last search (all ranks)
-  PetscReal ratio = searched_ ? 0 : PETSC_MAX_REAL, gratio;
-  if (searched_)
-    for (auto *a : adapters_) {
-      PetscReal r;
-      PetscCall(a->MoveRatio(&r));
-      ratio = std::max(ratio, r);
-    }
-  PetscCallMPI(MPI_Allreduce(&ratio, &gratio, 1, MPIU_REAL, MPI_MAX, comm_));
-  const bool search = gratio > 1 || !(stats_.buffer > 0);
+  bool search;
+  PetscCall(SearchDue(&search));
   ++since_search_;
   if (search) {
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
@@ -786,9 +753,7 @@ PetscErrorCode Engine::Evaluate() {
   }
   PetscReal             sums[4] = {0, 0, 0, 0}; // energy, active pairs, sphere contacts without a spring slot, onset
   std::array<double, 3> deep{0, -1, -1};     // worst initial overlap ratio, the pair
-  if (pending && by_keys) PetscCall(PairLoop(true, sums, deep, &sums[3]));
-  else PetscCall(PairLoop(true, sums, deep));
-  if (pending && !by_keys) sums[3] = sums[0] - listed_energy;
+  PetscCall(PairLoop(sums, deep, pending ? &sums[3] : nullptr));
   if (spheres_) PetscCall(GranularForces(sums, deep));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there

@@ -271,13 +271,10 @@ private:
   PetscErrorCode ListAll();
   // Is a search due (some primitive moved beyond its margin since the last, or none yet)? Collective.
   PetscErrorCode SearchDue(bool *due);
-  // The tetrahedron pairs' contact energy of the current listing at the adapters' current
-  // positions (this rank's pairs; searches first when due). No force, no state change.
-  PetscErrorCode ListedEnergy(PetscReal *e);
-  // The tetrahedron pairs' loop (Evaluate's, with forces only when f is set): sums[0] += energy,
-  // sums[1] += touching pairs; deep: the initial-overlap check's worst pair (when f). With
-  // onset: the energy of the touching pairs that are not in old_pairs_ is added to it.
-  PetscErrorCode PairLoop(bool f, PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset = nullptr);
+  // Evaluate's loop over the tetrahedron pairs: forces, sums[0] += energy, sums[1] += touching
+  // pairs; deep: the initial-overlap check's worst pair. With onset: the energy of the touching
+  // pairs that are not in old_pairs_ is added to it.
+  PetscErrorCode PairLoop(PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset);
   // A pair's identity across listings: its primitives' (key, kind), smaller first.
   std::array<std::int64_t, 2> PairId(int i, int j) const {
     const std::int64_t u = P(i).key * 4 + P(i).kind, v = P(j).key * 4 + P(j).kind;
