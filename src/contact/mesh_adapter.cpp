@@ -140,6 +140,7 @@ PetscErrorCode MeshAdapter::Pending(PetscBool *pending) {
   if (!fractured_) PetscFunctionReturn(0);
   PetscCall(fdem::model::DeformableJointCounts(d_, &n, &nd)); // the same on every rank
   *pending = n != nbroken_ || (nd != ndamaged_ && damaged_cells_) ? PETSC_TRUE : PETSC_FALSE;
+  pending_ = *pending == PETSC_TRUE ? 1 : 0;
   PetscFunctionReturn(0);
 }
 
@@ -149,7 +150,9 @@ PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
   PetscBool pending;
   PetscFunctionBegin;
   *changed = PETSC_FALSE;
-  PetscCall(Pending(&pending));
+  if (pending_ >= 0) pending = pending_ ? PETSC_TRUE : PETSC_FALSE; // the engine asked at this evaluation: one reduction, not two
+  else PetscCall(Pending(&pending));
+  pending_ = -1;
   if (!pending) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
   PetscCall(fdem::model::DeformableFractureTopology(d_, t));

@@ -67,6 +67,7 @@ private:
   std::vector<char>                    fracturable_;       // per body
   PetscInt                             nbroken_ = 0;       // broken joints at the last selection
   PetscInt                             ndamaged_ = 0;      // damaged joints (a point beyond its peak) at the last selection
+  int                                  pending_ = -1;      // Pending's answer, kept for the Changed that follows it at the same evaluation (-1: none)
   bool                                 damaged_cells_ = true; // -fdem_joint_damaged_contact: the cells of damaged joints take part
   std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
   FDEMDeformable                       d_ = nullptr;

@@ -206,16 +206,10 @@ PetscErrorCode fdem::model::SettleClasses(MPI_Comm comm, LabelClasses &c, const 
     std::vector<PetscInt>    it(2 * lab.size());
     for (std::size_t v = 0; v < lab.size(); ++v) d[v] = host(f[v]), it[2 * v] = f[v], it[2 * v + 1] = flag[v];
     PetscCall(to_roots.Send(d, 2, it, got));
-    std::vector<PetscInt> rflag(lab.size(), 0);
+    std::vector<PetscInt> rflag(lab.size(), 0), r(got.size() / 2);
     for (std::size_t k = 0; k < got.size(); k += 2) rflag[idx(lab, got[k])] |= got[k + 1];
-    std::vector<PetscInt> ask(lab.size()), r;
-    std::vector<PetscInt> rec;
-    Router                from_roots(comm, size);
-    for (std::size_t v = 0; v < lab.size(); ++v) ask[v] = f[v];
-    PetscCall(from_roots.Send(d, 1, ask, rec));
-    r.resize(rec.size());
-    for (std::size_t k = 0; k < rec.size(); ++k) r[k] = rflag[idx(lab, rec[k])];
-    PetscCall(from_roots.Reply(1, r, back));
+    for (std::size_t k = 0; k < r.size(); ++k) r[k] = rflag[idx(lab, got[2 * k])];
+    PetscCall(to_roots.Reply(1, r, back));
     flag = back;
   }
   // every class at this rank's boundaries: its component's smallest label and flag
