@@ -60,12 +60,13 @@ double SecantShearDamage(double z, double x) { return x < 1 ? 1.0 - z + z * (0.5
 // The energy per area dissipated by raising the shear damage from w0 to w1 at slip s (m; s_peak
 // sp). Undamaged (D = 0) and below the peak the secant grows along the hardening branch,
 // w = s / (2 sp): the integral of K s^2 / 2 dw from w0 to w1 along it, (2/3) K sp^2 (w1^3 - w0^3),
-// which is exact where the step kept f_s; elsewhere (softening, a growth of D) the growth at the
-// slip reached, (w1 - w0) K s^2 / 2, the release of psi at fixed separation.
-double ShearDissipated(const JointLaw &L, double D, double w0, double w1, double s, double sp) {
+// which is exact where the step kept f_s; elsewhere (softening, a growth of D) the release of psi
+// at fixed separation, (w1 - w0) psi_s with psi_s the shear's K s^2 / 2 at the step's mean
+// separation (JointState::last_shear).
+double ShearDissipated(const JointLaw &L, double D, double w0, double w1, double s, double sp, double psi_s) {
   if (!(w1 > w0)) return 0;
   if (D == 0 && s <= sp) return (2.0 / 3.0) * L.shear_stiffness * sp * sp * (w1 * w1 * w1 - w0 * w0 * w0);
-  return (w1 - w0) * (0.5 * L.shear_stiffness * s * s);
+  return (w1 - w0) * psi_s;
 }
 } // namespace
 
@@ -140,7 +141,17 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   const double z = state.softening;
   // the shear secant: w rises to the law's where that is larger (1 once broken)
   state.shear_damage = state.D >= 1 ? 1.0f : std::max(w0, (float)SecantShearDamage(z, s / sp));
-  t.dissipated = (z0 - z) * TensionEnergy(L, dn) + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp);
+  // The growth releases psi at fixed separation. The tractions' work over the step, which the
+  // schemes take as the trapezoidal rule, leaves over the release at the step's mean
+  // separation: taken so once the point was damaged at its last evaluation (whose energies the
+  // state keeps), at this separation when it becomes damaged now (one step per point) or has
+  // no last energies (a state set from its damage).
+  const double psi_t = TensionEnergy(L, dn), psi_s = 0.5 * L.shear_stiffness * s * s;
+  const bool   last   = D0 > 0 && state.last_tension >= 0 && state.last_shear >= 0;
+  const double mean_t = last ? 0.5 * ((double)state.last_tension + psi_t) : psi_t;
+  const double mean_s = last ? 0.5 * ((double)state.last_shear + psi_s) : psi_s;
+  t.dissipated = (z0 - z) * mean_t + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp, mean_s);
+  state.last_tension = (float)psi_t, state.last_shear = (float)psi_s;
   if (state.broken()) return t;
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
   t.tau   = (1.0 - state.shear_damage) * (L.shear_stiffness * s);

@@ -519,6 +519,10 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
   PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
+  std::vector<PetscReal> E(6 * d->jstate.size()); // the damaged points' last energies (JointState)
+  for (std::size_t j = 0; j < d->jstate.size(); ++j)
+    for (int q = 0; q < 3; ++q) E[6 * j + 2 * q] = d->jstate[j][q].last_tension, E[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
+  PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
   PetscCall(OnsetField(d, viewer, false));
   PetscFunctionReturn(0);
@@ -538,6 +542,13 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_shear_damage", &has));
   if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
+  // The damaged points' energies at their last evaluation, for the dissipation's trapezoidal
+  // rule. Without them (an earlier fdem's checkpoint) each damaged point takes its first
+  // step's release at that step's end, as at the step where a point becomes damaged.
+  std::vector<PetscReal> E(6 * d->jstate.size(), -1.0);
+  has = PETSC_TRUE;
+  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_last_energy", &has));
+  if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
   PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;
@@ -547,12 +558,16 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       if (!(v >= 0 && v <= 1 && w >= 0 && w <= 1) && bad < 0) bad = d->jgid[j];
       d->jstate[j][q].SetDamage(v);
       d->jstate[j][q].shear_damage = (float)w;
+      const PetscReal et = E[6 * j + 2 * q], es = E[6 * j + 2 * q + 1];
+      const bool      ok = (et == -1 || (et >= 0 && std::isfinite(et))) && (es == -1 || (es >= 0 && std::isfinite(es)));
+      if (!ok && bad < 0) bad = d->jgid[j];
+      d->jstate[j][q].last_tension = (float)et, d->jstate[j][q].last_shear = (float)es; // -1: none
     }
     d->jgone[j] = fdem::kernels::JointBroken(d->jstate[j].data()); // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1] or a negative dissipated energy in the saved state", bad);
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1], or a negative dissipated or last energy, in the saved state", bad);
   PetscFunctionReturn(0);
 }
 

@@ -197,6 +197,40 @@ TEST(Joint, WorkIsStoredPlusDissipatedAlongUnloadingAndMixedPaths) {
   }
 }
 
+// The balance of a step: an explicit scheme takes the tractions' work over a step as the
+// trapezoidal rule, and the dissipated energy of a step is the release at the step's mean
+// separation, so that work - stored - dissipated shrinks with the square of the step along any
+// path (with the release at the step's end it shrinks only with the step: a scene's balance
+// then drifts by a first-order error while its joints soften). Coarse walks of n and 2n steps
+// to rupture in mode I, in mode II, mixed, and with unloading and reloading.
+TEST(Joint, WorkIsStoredPlusDissipatedToSecondOrderInTheStep) {
+  const JointLaw &L = Law();
+  double          sp, sc;
+  JointSlipLimits(L, 0, &sp, &sc);
+  static double pk, cr, crs;
+  pk = L.dn_peak, cr = L.dn_crit, crs = sc;
+  double (*paths[4])(double, double *) = {
+      [](double u, double *s) { *s = 0; return 1.05 * cr * u; },
+      [](double u, double *s) { *s = 1.05 * crs * u; return 0.0; },
+      [](double u, double *s) { *s = 1.3 * cr * u * u; return 0.8 * cr * u; },
+      [](double u, double *s) {
+        *s = 0.2 * pk * u;
+        const double a = pk + 0.4 * (cr - pk), b = 0.5 * pk, c = pk + 0.9 * (cr - pk);
+        return u < 1.0 / 3 ? 3 * u * a : u < 2.0 / 3 ? a + (b - a) * (3 * u - 1) : b + (c - b) * (3 * u - 2);
+      }};
+  const char *names[4] = {"mode I", "mode II", "mixed", "unload and reload"};
+  for (int k = 0; k < 4; ++k) {
+    double prev = 0;
+    for (int n : {60, 120, 240}) {
+      const PathEnergy e   = Walk(L, paths[k], n);
+      const double     err = std::fabs(e.work - e.stored - e.dissipated);
+      EXPECT_LT(err, 5e-3 * e.work) << names[k] << ", " << n << " steps";
+      if (prev > 0) EXPECT_GT(prev / err, 3.0) << names[k] << ": the error must shrink as the step squared, from " << prev << " to " << err << " J/m^2 at " << n << " steps";
+      prev = err;
+    }
+  }
+}
+
 // Mohr-Coulomb without an energy source: a closed cycle of opening and slip never gives back
 // more work than it took. The cycle slides the joint free of compression, presses it (the
 // shear strength rises by f_t tan(phi) per f_t of compression), slides it back under that

@@ -66,13 +66,22 @@ struct JointState {
   double D = 0; // set it with SetDamage, which keeps `softening` with it
   // w in [0, 1]: the shear traction is (1 - w) K s. Each evaluation raises it to the law's
   // secant, 1 - tau_law / (K s), where that is larger (doc/fracture.md, "Shear"). A float,
-  // so that a point's history stays 16 bytes: the law rounds the secant to it, and the
+  // so that a point's history stays small (24 bytes): the law rounds the secant to it, and the
   // tractions, the stored and the dissipated energy all use the rounded value.
   float shear_damage = 0;
   // z(D) rounded to a float, kept with D so that a softening point does not evaluate the curve
   // (an exp) at every evaluation: 1 while D = 0, 0 once broken. The tractions, the stored and
   // the dissipated energy all use the rounded value.
   float softening = 1;
+  // The point's energies per area at its last evaluation while damaged (D > 0): the tension
+  // term's undamaged energy f_t dn_peak H(dn / dn_peak) and the shear's K s^2 / 2. A growth of
+  // D or w between two evaluations dissipates the energy it releases at the mean of the two
+  // evaluations' values (the trapezoidal rule), which is what the tractions' work over the
+  // step, as the explicit schemes take it, leaves over: the balance's error is then second
+  // order in the step (doc/fracture.md, "Energy"). Floats, as w and z are; -1: none yet (the
+  // point's first damaged evaluation, or a state set from its damage alone, takes the release
+  // at its own separation).
+  float last_tension = -1, last_shear = -1;
   // D = 1: the point carries nothing of the law (while its joint holds, a joint element keeps
   // the compression penalty at its broken points).
   bool broken() const { return D >= 1; }
@@ -99,7 +108,10 @@ struct JointTraction {
 // shear damage w raised to 1 - tau_law / (K s) where that is larger. Along a monotonic
 // path at a fixed normal traction tau is tau_law exactly; where f_s falls or the slip
 // unloads the joint keeps the softer secant, so that no cycle of opening and slip gives
-// back more work than it took. `dissipated` is the energy of the growth of D and w.
+// back more work than it took. `dissipated` is the energy of the growth of D and w: the
+// release of psi at fixed separation, taken at the mean of the last evaluation's separation
+// and this one's (the state keeps the last energies) once the point is damaged, and at this
+// one's at the evaluation where it first becomes damaged.
 // The state is updated (pass a copy to evaluate without committing).
 JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointState &state);
 
@@ -110,9 +122,10 @@ JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointSta
 //   H(x) = x^2 - x^3/3 below the peak, 2/3 + (x - 1) beyond it,
 // with the compression penalty's f_t dn^2 / dn_peak in place of the first term when
 // dn < 0. Unloading at fixed D and w gives it back. It is 0 once broken. Growing D from D0
-// to D1 and w from w0 to w1 at fixed separation dissipates psi(D0, w0) - psi(D1, w1) >= 0:
-// the `dissipated` of JointTractionAt, so that the work done on a joint is the stored
-// energy plus the sum of the dissipated, along any path.
+// to D1 and w from w0 to w1 at fixed separation dissipates psi(D0, w0) - psi(D1, w1) >= 0,
+// and JointTractionAt's `dissipated` is that release at the mean separation of the step, so
+// that the work done on a joint, summed by the trapezoidal rule over the evaluations, is the
+// stored energy plus the sum of the dissipated to second order in the steps of the path.
 double JointStoredEnergy(const JointLaw &law, double dn, double s, const JointState &state);
 
 // The slip at the shear peak and at rupture for a normal traction sigma (Pa):
