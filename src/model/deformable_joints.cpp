@@ -549,6 +549,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   has = PETSC_TRUE;
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_last_energy", &has));
   if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true));
+  else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_last_energy (written by an earlier fdem); each damaged joint point takes its first step's release of energy at the step's end\n"));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
   PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;

@@ -11,9 +11,10 @@ carried by the checkpoint).
      restart is equal to 1e-9, and the last row to 1e-4: a joint point breaks when its damage
      crosses 1, so round-off in the force sums can move a point's break by a step, and the
      fragments' motion amplifies that (doc/fracture.md, "Not built yet"). And for such a
-     scene: the checkpoint without its joint_shear_damage (as an fdem before the shear's
-     secant form wrote it) restarts with a note and runs to the end; with a shear damage of
-     1.5 it stops with an error naming the joint;
+     scene: the checkpoint without its joint_shear_damage and joint_last_energy (as an fdem
+     before the shear's secant form wrote it) restarts with a note for each and runs to the
+     end; with a shear damage of 1.5, or a last energy of -5, it stops with an error naming
+     the joint;
   4. kill -9 during the second checkpoint write (after the temporary file, before the rename;
      -fdem_checkpoint_kill 2): checkpoint.h5 is still the step-75 one, readable, and a restart
      from it ends bitwise equal to A.
@@ -77,18 +78,22 @@ if os.path.exists(os.path.join(root, "A", "fracture.csv")):
     # a checkpoint written before the joints' shear damage was kept (the dataset removed), and
     # one with a shear damage out of range; h5py runs under the system python (install-deps.sh)
     import shutil
-    old_ckpt, bad_ckpt = os.path.join(root, "old.h5"), os.path.join(root, "bad.h5")
-    shutil.copy(os.path.join(root, "A/checkpoint.1.h5"), old_ckpt)
-    shutil.copy(os.path.join(root, "A/checkpoint.1.h5"), bad_ckpt)
+    old_ckpt, bad_ckpt, bad2_ckpt = (os.path.join(root, f) for f in ("old.h5", "bad.h5", "bad2.h5"))
+    for f in (old_ckpt, bad_ckpt, bad2_ckpt):
+        shutil.copy(os.path.join(root, "A/checkpoint.1.h5"), f)
     edit = ("import h5py, sys\n"
-            "with h5py.File(sys.argv[1], 'r+') as f: del f['joint_shear_damage']\n"
-            "with h5py.File(sys.argv[2], 'r+') as f: d = f['joint_shear_damage']; v = d[()]; v[3 * 5 + 1] = 1.5; d[...] = v\n")
-    subprocess.run(["/usr/bin/python3", "-c", edit, old_ckpt, bad_ckpt], check=True)
+            "with h5py.File(sys.argv[1], 'r+') as f: del f['joint_shear_damage']; del f['joint_last_energy']\n"
+            "with h5py.File(sys.argv[2], 'r+') as f: d = f['joint_shear_damage']; v = d[()]; v[3 * 5 + 1] = 1.5; d[...] = v\n"
+            "with h5py.File(sys.argv[3], 'r+') as f: d = f['joint_last_energy']; v = d[()]; v[6 * 5 + 2] = -5; d[...] = v\n")
+    subprocess.run(["/usr/bin/python3", "-c", edit, old_ckpt, bad_ckpt, bad2_ckpt], check=True)
     r = run(np, "F", ["-restart", old_ckpt])
     rf = rows("F")[-1]
-    check("restart from a checkpoint without joint_shear_damage: says so, runs to the end", "no joint_shear_damage" in r.stdout and abs(rf[0] - a[0]) < 1e-12, f"t = {rf[0]}")
+    check("restart from a checkpoint without joint_shear_damage and joint_last_energy: says so, runs to the end",
+          "no joint_shear_damage" in r.stdout and "no joint_last_energy" in r.stdout and abs(rf[0] - a[0]) < 1e-12, f"t = {rf[0]}")
     r = run(np, "G", ["-restart", bad_ckpt], expect_ok=False)
     check("a shear damage of 1.5 in the checkpoint: an error naming joint 5", r.returncode != 0 and "joint 5 has a damage or shear damage outside [0, 1]" in r.stdout + r.stderr, f"exit status {r.returncode}")
+    r = run(np, "H", ["-restart", bad2_ckpt], expect_ok=False)
+    check("a last energy of -5 in the checkpoint: an error naming joint 5", r.returncode != 0 and "joint 5 has a damage" in r.stdout + r.stderr and "negative dissipated or last energy" in r.stdout + r.stderr, f"exit status {r.returncode}")
 else:
     check(f"restart on {other} ranks from a {np}-rank checkpoint: largest difference / largest value", worst <= 1e-9, f"{worst:.3e} (bound 1e-9)")
 r = run(np, "D", ["-fdem_checkpoint_kill", "2"], expect_ok=False)
