@@ -311,6 +311,8 @@ void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, n
 static void SnapCoplanarFaces(double a_in_b[4][4], double b_in_a[4][4]) {
   for (int f = 0; f < 4; ++f)
     for (int o = 0; o < 4; ++o) {
+      // almost always some vertex is well off the plane: the first of each face says so
+      if (!(std::fabs(a_in_b[kFace[f][0]][o]) < 1e-9 && std::fabs(b_in_a[kFace[o][0]][f]) < 1e-9)) continue;
       double ma = 0, mb = 0; // a's face f from b's face plane o, b's face o from a's face plane f
       for (int m = 0; m < 3; ++m) {
         ma = std::max(ma, std::fabs(a_in_b[kFace[f][m]][o]));
