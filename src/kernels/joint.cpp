@@ -57,17 +57,12 @@ double TensionEnergy(const JointLaw &L, double dn) { return dn > 0 ? L.ft * L.dn
 // since K s = 2 f_s x, w = 1 - z h(x) / (2x), i.e. 1 - z (1 - x/2) below the peak and
 // 1 - z / (2x) beyond it (x/2 exactly when z = 1). Independent of f_s but through x.
 double SecantShearDamage(double z, double x) { return x < 1 ? 1.0 - z + z * (0.5 * x) : 1.0 - z / (2.0 * x); }
-// The energy per area dissipated by raising the shear damage from w0 to w1 at slip s (m; s_peak
-// sp). Undamaged (D = 0) and below the peak the secant grows along the hardening branch,
-// w = s / (2 sp): the integral of K s^2 / 2 dw from w0 to w1 along it, (2/3) K sp^2 (w1^3 - w0^3),
-// which is exact where the step kept f_s; elsewhere (softening, a growth of D) the release of psi
-// at fixed separation, (w1 - w0) psi_s with psi_s the shear's K s^2 / 2 at the step's mean
-// separation (JointState::last_shear).
-double ShearDissipated(const JointLaw &L, double D, double w0, double w1, double s, double sp, double psi_s) {
-  if (!(w1 > w0)) return 0;
-  if (D == 0 && s <= sp) return (2.0 / 3.0) * L.shear_stiffness * sp * sp * (w1 * w1 * w1 - w0 * w0 * w0);
-  return (w1 - w0) * psi_s;
-}
+// The energy per area dissipated by raising the shear damage from w0 to w1: the release of psi
+// at fixed separation, (w1 - w0) psi_s, with psi_s the shear's K s^2 / 2 at the step's mean
+// separation (JointState::last_shear). On the hardening branch at a fixed f_s the integral
+// along the branch, (2/3) K s_peak^2 (w1^3 - w0^3), would be exact, but f_s follows the normal
+// traction, and under a changing compression that formula is first order in the step.
+double ShearDissipated(double w0, double w1, double psi_s) { return w1 > w0 ? (w1 - w0) * psi_s : 0.0; }
 } // namespace
 
 double JointStoredEnergy(const JointLaw &L, double dn, double s, const JointState &st) {
@@ -143,14 +138,12 @@ JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState
   state.shear_damage = state.D >= 1 ? 1.0f : std::max(w0, (float)SecantShearDamage(z, s / sp));
   // The growth releases psi at fixed separation. The tractions' work over the step, which the
   // schemes take as the trapezoidal rule, leaves over the release at the step's mean
-  // separation: taken so once the point was damaged at its last evaluation (whose energies the
-  // state keeps), at this separation when it becomes damaged now (one step per point) or has
-  // no last energies (a state set from its damage).
+  // separation: the state keeps the energies of the last evaluation (at this one's separation
+  // where it has none: a fresh state, or one set from its damage).
   const double psi_t = TensionEnergy(L, dn), psi_s = 0.5 * L.shear_stiffness * s * s;
-  const bool   last   = D0 > 0 && state.last_tension >= 0 && state.last_shear >= 0;
-  const double mean_t = last ? 0.5 * ((double)state.last_tension + psi_t) : psi_t;
-  const double mean_s = last ? 0.5 * ((double)state.last_shear + psi_s) : psi_s;
-  t.dissipated = (z0 - z) * mean_t + ShearDissipated(L, state.D, w0, state.shear_damage, s, sp, mean_s);
+  const double mean_t = state.last_tension >= 0 ? 0.5 * ((double)state.last_tension + psi_t) : psi_t;
+  const double mean_s = state.last_shear >= 0 ? 0.5 * ((double)state.last_shear + psi_s) : psi_s;
+  t.dissipated = (z0 - z) * mean_t + ShearDissipated(w0, state.shear_damage, mean_s);
   state.last_tension = (float)psi_t, state.last_shear = (float)psi_s;
   if (state.broken()) return t;
   t.sigma = dn <= 0 ? sigma0 : z * sigma0; // compression is never softened
@@ -397,12 +390,12 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
   BlockGeometry G;
   G.Set(B);
   // the law's constants and the points' history, component-major
-  alignas(32) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], K[N], undamaged[3][N], w0[3][N];
+  alignas(32) double ft[N], two_ft[N], c[N], tan_phi[N], dn_peak[N], inv_dn_peak[N], slip_per_strength[N], K[N], undamaged[3][N], w0[3][N], last_s[3][N];
   for (int b = 0; b < nb; ++b) {
     const JointLaw &L = *B.law[b];
     ft[b] = L.ft, two_ft[b] = 2.0 * L.ft, c[b] = L.c, tan_phi[b] = L.tan_phi, dn_peak[b] = L.dn_peak, inv_dn_peak[b] = L.inv_dn_peak, slip_per_strength[b] = L.slip_per_strength;
     K[b] = L.shear_stiffness;
-    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage;
+    for (int q = 0; q < 3; ++q) undamaged[q][b] = B.state[b][q].D == 0 ? 1.0 : 0.0, w0[q][b] = B.state[b][q].shear_damage, last_s[q][b] = B.state[b][q].last_shear;
   }
   bool was_broken[N]; // broken through before this evaluation
   for (int b = 0; b < nb; ++b) was_broken[b] = JointBroken(B.state[b]);
@@ -410,7 +403,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
   // both peaks is elastic in tension, and its tractions and shear damage are those of
   // JointTractionAt, with the law's reciprocals (the same to round-off). fast = 0 marks the
   // points that need JointTractionAt (done one by one below).
-  alignas(16) double sigma[3][N], tau[3][N], fast[3][N], w1[3][N], dw_energy[3][N];
+  alignas(16) double sigma[3][N], tau[3][N], fast[3][N], w1[3][N], dw_energy[3][N], psi_t[3][N], psi_s[3][N];
   for (int q = 0; q < 3; ++q)
     for (int b = 0; b < nb; ++b) {
       // each choice as a blend with the factors 1 and 0, exact for finite values (gcc does not
@@ -425,7 +418,12 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       sigma[q][b]     = sigma0;
       tau[q][b]       = (1.0 - w) * (K[b] * s);
       w1[q][b]        = w;
-      dw_energy[q][b] = (2.0 / 3.0) * K[b] * sp * sp * (w * w * w - w0[q][b] * w0[q][b] * w0[q][b]); // ShearDissipated's, along the branch
+      // the point's energies, kept for the next evaluation, and the release of the shear damage's
+      // growth at the step's mean slip (ShearDissipated; at this slip where none is kept)
+      psi_t[q][b]     = pulled * (ft[b] * dn_peak[b] * (x * x * (1.0 - x / 3.0))); // TensionEnergy below the peak
+      psi_s[q][b]     = 0.5 * K[b] * s * s;
+      const double ms = last_s[q][b] >= 0 ? 0.5 * (last_s[q][b] + psi_s[q][b]) : psi_s[q][b];
+      dw_energy[q][b] = (w - w0[q][b]) * ms;
       fast[q][b]      = (undamaged[q][b] != 0) & (dn <= dn_peak[b]) & (s <= sp) ? 1.0 : 0.0;
     }
   // the fast points' shear damage and its dissipated energy (where it grew), then the other
@@ -436,7 +434,10 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     JointState *state = B.state[b];
     double      fdiss = 0;
     for (int q = 0; q < 3; ++q)
-      if (fast[q][b] != 0 && w1[q][b] != w0[q][b]) state[q].shear_damage = (float)w1[q][b], fdiss += dw_energy[q][b];
+      if (fast[q][b] != 0) {
+        if (w1[q][b] != w0[q][b]) state[q].shear_damage = (float)w1[q][b], fdiss += dw_energy[q][b];
+        state[q].last_tension = (float)psi_t[q][b], state[q].last_shear = (float)psi_s[q][b];
+      }
     double diss = G.w[b] * fdiss;
     if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) {
       if (diss != 0 && B.dissipated[b]) *B.dissipated[b] += diss;

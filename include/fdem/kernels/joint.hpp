@@ -73,14 +73,13 @@ struct JointState {
   // (an exp) at every evaluation: 1 while D = 0, 0 once broken. The tractions, the stored and
   // the dissipated energy all use the rounded value.
   float softening = 1;
-  // The point's energies per area at its last evaluation while damaged (D > 0): the tension
-  // term's undamaged energy f_t dn_peak H(dn / dn_peak) and the shear's K s^2 / 2. A growth of
-  // D or w between two evaluations dissipates the energy it releases at the mean of the two
-  // evaluations' values (the trapezoidal rule), which is what the tractions' work over the
-  // step, as the explicit schemes take it, leaves over: the balance's error is then second
-  // order in the step (doc/fracture.md, "Energy"). Floats, as w and z are; -1: none yet (the
-  // point's first damaged evaluation, or a state set from its damage alone, takes the release
-  // at its own separation).
+  // The point's energies per area at its last evaluation: the tension term's undamaged energy
+  // f_t dn_peak H(dn / dn_peak) and the shear's K s^2 / 2. A growth of D or w between two
+  // evaluations dissipates the energy it releases at the mean of the two evaluations' values
+  // (the trapezoidal rule), which is what the tractions' work over the step, as the explicit
+  // schemes take it, leaves over: the balance's error is then second order in the step
+  // (doc/fracture.md, "Energy"). Floats, as w and z are; -1: none yet (a fresh state, or one
+  // set from its damage alone, takes the release at its own separation).
   float last_tension = -1, last_shear = -1;
   // D = 1: the point carries nothing of the law (while its joint holds, a joint element keeps
   // the compression penalty at its broken points).
@@ -110,8 +109,7 @@ struct JointTraction {
 // unloads the joint keeps the softer secant, so that no cycle of opening and slip gives
 // back more work than it took. `dissipated` is the energy of the growth of D and w: the
 // release of psi at fixed separation, taken at the mean of the last evaluation's separation
-// and this one's (the state keeps the last energies) once the point is damaged, and at this
-// one's at the evaluation where it first becomes damaged.
+// and this one's (the state keeps the last energies; at this one's where it has none).
 // The state is updated (pass a copy to evaluate without committing).
 JointTraction JointTractionAt(const JointLaw &law, double dn, double s, JointState &state);
 
