@@ -15,9 +15,10 @@ of RANKS, and checks each run's fragments.csv and balance.csv:
     rank runs the scene again with the material's `fracture:` block taken out (the
     same ball, not fracturable, striking the plate), and each run's max
     |dissipated| must be at most 1.5 times that run's. The unfractured ball's is the
-    contact's own residual (the overlap energy is a quadrature of the potential, which
-    the force's work follows to within about 1e-3 of the impact energy at the deepest
-    compression, and gives back on the rebound). Energy that the joints' bookkeeping
+    contact's own residual (the potential contact force is the gradient of the overlap
+    energy for rigid motions of two tetrahedra, not for deforming ones: its work and the
+    energy part by about 1e-3 of the impact energy at the deepest compression, and the
+    rebound gives it back). Energy that the joints' bookkeeping
     added at each step (a release of damage taken at the step's end instead of its
     middle: first order in the step) or that the model added at its switches (a
     joint removed with its compression, contact pairs listed already overlapped)
