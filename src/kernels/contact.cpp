@@ -305,7 +305,7 @@ void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, n
 // coplanar (each snaps its own barycentric coordinates, and the two tetrahedra's sizes
 // differ), the polygon's share of the energy was lost or counted twice: a shallow overlap of
 // a ball's tetrahedron with a plate, whose faces met in one plane, reported -0.45 J instead
-// of +0.1 J. So face f of a and face o of b are taken as coplanar in both passes when either
+// of +0.20 J. So face f of a and face o of b are taken as coplanar in both passes when either
 // pass sees them within kSnap and the other within a looser 1e-9, which their different
 // sizes can need: the coordinates of both are then 0.
 static void SnapCoplanarFaces(double a_in_b[4][4], double b_in_a[4][4]) {

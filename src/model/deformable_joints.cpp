@@ -519,7 +519,7 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
   PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
-  std::vector<PetscReal> E(6 * d->jstate.size()); // the damaged points' last energies (JointState)
+  std::vector<PetscReal> E(6 * d->jstate.size()); // the points' energies at their last evaluation (JointState)
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
     for (int q = 0; q < 3; ++q) E[6 * j + 2 * q] = d->jstate[j][q].last_tension, E[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
   PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
@@ -542,14 +542,14 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_shear_damage", &has));
   if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
-  // The damaged points' energies at their last evaluation, for the dissipation's trapezoidal
-  // rule. Without them (an earlier fdem's checkpoint) each damaged point takes its first
-  // step's release at that step's end, as at the step where a point becomes damaged.
+  // The points' energies at their last evaluation, for the release of damage at the step's
+  // middle. Without them (an earlier fdem's checkpoint) each point takes its first step's
+  // release at that step's end.
   std::vector<PetscReal> E(6 * d->jstate.size(), -1.0);
   has = PETSC_TRUE;
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_last_energy", &has));
   if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true));
-  else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_last_energy (written by an earlier fdem); each damaged joint point takes its first step's release of energy at the step's end\n"));
+  else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_last_energy (written by an earlier fdem); each joint point takes its first step's release of energy at the step's end\n"));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
   PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;
