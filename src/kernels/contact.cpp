@@ -125,16 +125,13 @@ double AreaInside(const double *const lam[3]) {
 
 // One direction: the faces of contactor c inside target t, pushed by t's
 // potential (penalty eps). Adds nodal forces to fc (contactor) and ft (target).
-// lam_c[v][k]: lambda_k of t at contactor vertex v (Barycentric, before snapping).
+// lam[v][k]: lambda_k of t at contactor vertex v (Barycentric, snapped by SnapCoordinates).
 // Only the faces in `faces` (bit f: the face opposite vertex f) are pushed; of the others
 // only the area fraction inside t is found (r.frac, for the energy's base-face terms).
 // Compiled for x86-64-v3 as well, which the loader picks where the processor has it (its
 // fused multiply-adds change the results by round-off; 6% faster).
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4 &c, const Frame &tf, const double lam_c[4][4], double eps, int faces, std::array<Vec3, 4> &fc,
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4 &c, const Frame &tf, const double lam[4][4], double eps, int faces, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
-  double lam[4][4];
-  for (int v = 0; v < 4; ++v)
-    for (int k = 0; k < 4; ++k) lam[v][k] = std::fabs(lam_c[v][k]) < kSnap ? 0.0 : lam_c[v][k];
   // A face plane of t with all of c strictly outside: no overlap at all.
   for (int k = 0; k < 4; ++k)
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
@@ -298,8 +295,9 @@ static bool SeparatedByFace(const Frame &f, const Tet4 &t, double lam[4][4]) {
 
 void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, name, f); }
 
-// A face of a lying in a face plane of b is a face of b's in a face plane of a: the two passes
-// must agree on it. A polygon of a's face in the base plane of one of b's sub-tetrahedra is
+// The two passes' barycentric coordinates, snapped once for both: each within kSnap of 0 is 0,
+// so that a vertex on a face plane is on it exactly. And a face of a lying in a face plane of
+// b is a face of b's in a face plane of a: the two passes must agree on it. A polygon of a's face in the base plane of one of b's sub-tetrahedra is
 // left out of the energy (on_base in Pass), as b's base-face term counts it from the
 // fraction of b's face inside a that the other pass finds; if only one pass found the faces
 // coplanar (each snaps its own barycentric coordinates, and the two tetrahedra's sizes
@@ -308,7 +306,7 @@ void MakeTetFrame(const Tet4 &t, const char *name, TetFrame &f) { MakeFrame(t, n
 // of +0.20 J. So face f of a and face o of b are taken as coplanar in both passes when either
 // pass sees them within kSnap and the other within a looser 1e-9, which their different
 // sizes can need: the coordinates of both are then 0.
-static void SnapCoplanarFaces(double a_in_b[4][4], double b_in_a[4][4]) {
+static void SnapCoordinates(double a_in_b[4][4], double b_in_a[4][4]) {
   for (int f = 0; f < 4; ++f)
     for (int o = 0; o < 4; ++o) {
       // almost always some vertex is well off the plane: the first of each face says so
@@ -320,6 +318,11 @@ static void SnapCoplanarFaces(double a_in_b[4][4], double b_in_a[4][4]) {
       }
       if (!((ma < kSnap && mb < 1e-9) || (mb < kSnap && ma < 1e-9))) continue;
       for (int m = 0; m < 3; ++m) a_in_b[kFace[f][m]][o] = 0, b_in_a[kFace[o][m]][f] = 0;
+    }
+  for (int v = 0; v < 4; ++v)
+    for (int k = 0; k < 4; ++k) {
+      if (std::fabs(a_in_b[v][k]) < kSnap) a_in_b[v][k] = 0;
+      if (std::fabs(b_in_a[v][k]) < kSnap) b_in_a[v][k] = 0;
     }
 }
 
@@ -400,7 +403,7 @@ bool PotentialContactForce(const Tet4 &a, const TetFrame &fa, const Tet4 &b, con
     out.overlap = false;
     return false;
   }
-  SnapCoplanarFaces(a_in_b, b_in_a);
+  SnapCoordinates(a_in_b, b_in_a);
   PassResult ab, ba;
   Pass(a, fb, a_in_b, penalty_b, faces_a, out.fa, out.fb, ab); // a's faces inside b, b's potential
   Pass(b, fa, b_in_a, penalty_a, faces_b, out.fb, out.fa, ba); // b's faces inside a, a's potential

@@ -403,7 +403,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
   // both peaks is elastic in tension, and its tractions and shear damage are those of
   // JointTractionAt, with the law's reciprocals (the same to round-off). fast = 0 marks the
   // points that need JointTractionAt (done one by one below).
-  alignas(16) double sigma[3][N], tau[3][N], fast[3][N], w1[3][N], dw_energy[3][N], psi_t[3][N], psi_s[3][N];
+  alignas(16) double sigma[3][N], tau[3][N], fast[3][N], w1[3][N], dw_energy[3][N], psi_s[3][N];
   for (int q = 0; q < 3; ++q)
     for (int b = 0; b < nb; ++b) {
       // each choice as a blend with the factors 1 and 0, exact for finite values (gcc does not
@@ -418,9 +418,10 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
       sigma[q][b]     = sigma0;
       tau[q][b]       = (1.0 - w) * (K[b] * s);
       w1[q][b]        = w;
-      // the point's energies, kept for the next evaluation, and the release of the shear damage's
-      // growth at the step's mean slip (ShearDissipated; at this slip where none is kept)
-      psi_t[q][b]     = pulled * (ft[b] * dn_peak[b] * (x * x * (1.0 - x / 3.0))); // TensionEnergy below the peak
+      // the shear energy, kept for the next evaluation, and the release of the shear damage's
+      // growth at the step's mean slip (ShearDissipated; at this slip where none is kept). The
+      // tension energy is kept from a point's first damaged evaluation on (JointTractionAt):
+      // an undamaged point releases none.
       psi_s[q][b]     = 0.5 * K[b] * s * s;
       const double ms = last_s[q][b] >= 0 ? 0.5 * (last_s[q][b] + psi_s[q][b]) : psi_s[q][b];
       dw_energy[q][b] = (w - w0[q][b]) * ms;
@@ -436,7 +437,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void JointBlockForce
     for (int q = 0; q < 3; ++q)
       if (fast[q][b] != 0) {
         if (w1[q][b] != w0[q][b]) state[q].shear_damage = (float)w1[q][b], fdiss += dw_energy[q][b];
-        state[q].last_tension = (float)psi_t[q][b], state[q].last_shear = (float)psi_s[q][b];
+        state[q].last_shear = (float)psi_s[q][b];
       }
     double diss = G.w[b] * fdiss;
     if (fast[0][b] != 0 && fast[1][b] != 0 && fast[2][b] != 0) {

@@ -79,7 +79,9 @@ struct JointState {
   // (the trapezoidal rule), which is what the tractions' work over the step, as the explicit
   // schemes take it, leaves over: the balance's error is then second order in the step
   // (doc/fracture.md, "Energy"). Floats, as w and z are; -1: none yet (a fresh state, or one
-  // set from its damage alone, takes the release at its own separation).
+  // set from its damage alone, takes the release at its own separation). JointBlockForces's
+  // common path (undamaged points) keeps the shear's only: an undamaged point releases no
+  // tension energy, and the step where it becomes damaged takes that release at its end.
   float last_tension = -1, last_shear = -1;
   // D = 1: the point carries nothing of the law (while its joint holds, a joint element keeps
   // the compression penalty at its broken points).
