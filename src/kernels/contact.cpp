@@ -49,13 +49,14 @@ inline void Barycentric(const Frame &f, const Vec3 &p, double lam[4]) {
   lam[0] = 1.0 - lam[1] - lam[2] - lam[3];
 }
 
-// A polygon vertex carries the values of the linear functions it needs:
-// n[0..2] the target sub-tetrahedron's shape functions of its base nodes,
-// n[3] that of the centroid (so phi = penalty/4 * n[3]), and l[0..2] the
-// contactor face's shape functions. Positions are never needed.
+// A polygon vertex in a face of the contactor: where it lies in the face, (u, v), the face's
+// shape functions of its second and third vertices (the first's is 1 - u - v), and the values
+// n[0..3] of the linear functions that clip it, carried along so that a vertex on a clipping
+// plane has exactly 0 there: t's barycentric coordinates, or a sub-tetrahedron's shape
+// functions of its base nodes and (n[3]) of the centroid. Positions are never needed.
 struct PV {
   double n[4];
-  double l[3];
+  double u, v;
 };
 
 // Sutherland-Hodgman clip of a convex polygon to n[k] >= 0.
@@ -71,7 +72,8 @@ inline int Clip(const PV *in, int nin, PV *out, int k) {
       const double s = dp / (dp - dq);
       PV &r = out[nout++];
       for (int j = 0; j < 4; ++j) r.n[j] = p.n[j] + s * (q.n[j] - p.n[j]);
-      for (int j = 0; j < 3; ++j) r.l[j] = p.l[j] + s * (q.l[j] - p.l[j]);
+      r.u = p.u + s * (q.u - p.u);
+      r.v = p.v + s * (q.v - p.v);
       r.n[k] = 0.0;
     }
   }
@@ -83,6 +85,31 @@ inline bool Cuts(const PV *in, int nin, int k) {
   for (int i = 0; i < nin; ++i)
     if (in[i].n[k] < 0) return true;
   return false;
+}
+
+// The face's three vertices, whose barycentric coordinates in t are the rows lam[0..2].
+inline void FaceVertices(const double *const lam[3], PV *face) {
+  for (int m = 0; m < 3; ++m) {
+    for (int k = 0; k < 4; ++k) face[m].n[k] = lam[m][k];
+    face[m].u = m == 1, face[m].v = m == 2;
+  }
+}
+
+// The face's polygon clipped to t's four face planes (from the three vertices in face; the
+// result in face or other, returned); np its vertex count, < 3 when nothing is left.
+inline PV *ClipToTarget(PV *face, PV *other, int &np) {
+  np = 3;
+  for (int k = 0; k < 4 && np > 0; ++k) {
+    if (!Cuts(face, np, k)) continue;
+    np = Clip(face, np, other, k);
+    PV *tmp = face; face = other; other = tmp;
+  }
+  return face;
+}
+
+// Twice the area of the triangle (p, q, r) in the face's (u, v): the share of the face's area.
+inline double Share(const PV &p, const PV &q, const PV &r) {
+  return (q.u - p.u) * (r.v - p.v) - (r.u - p.u) * (q.v - p.v);
 }
 
 struct PassResult {
@@ -102,24 +129,11 @@ double AreaInside(const double *const lam[3]) {
   for (int m = 0; m < 3 && allin; ++m) allin = lam[m][0] >= 0 && lam[m][1] >= 0 && lam[m][2] >= 0 && lam[m][3] >= 0;
   if (allin) return 1;
   PV bufA[12], bufB[12];
-  PV *poly = bufA, *other = bufB;
-  for (int m = 0; m < 3; ++m) {
-    for (int k = 0; k < 4; ++k) poly[m].n[k] = lam[m][k];
-    for (int j = 0; j < 3; ++j) poly[m].l[j] = j == m;
-  }
-  int np = 3;
-  for (int k = 0; k < 4 && np > 0; ++k) {
-    if (!Cuts(poly, np, k)) continue;
-    np = Clip(poly, np, other, k);
-    PV *tmp = poly; poly = other; other = tmp;
-  }
+  FaceVertices(lam, bufA);
+  int np;
+  const PV *poly = ClipToTarget(bufA, bufB, np);
   double D = 0;
-  const PV &p0 = poly[0];
-  for (int q = 1; q + 1 < np; ++q) {
-    const PV &p1 = poly[q], &p2 = poly[q + 1];
-    D += p0.l[0] * (p1.l[1] * p2.l[2] - p1.l[2] * p2.l[1]) - p0.l[1] * (p1.l[0] * p2.l[2] - p1.l[2] * p2.l[0]) +
-         p0.l[2] * (p1.l[0] * p2.l[1] - p1.l[1] * p2.l[0]);
-  }
+  for (int q = 1; q + 1 < np; ++q) D += Share(poly[0], poly[q], poly[q + 1]);
   return D;
 }
 
@@ -128,8 +142,13 @@ double AreaInside(const double *const lam[3]) {
 // lam[v][k]: lambda_k of t at contactor vertex v (Barycentric, snapped by SnapCoordinates).
 // Only the faces in `faces` (bit f: the face opposite vertex f) are pushed; of the others
 // only the area fraction inside t is found (r.frac, for the energy's base-face terms).
+// Each face is clipped to t once, then split among t's sub-tetrahedra (each the part of t
+// where lambda_o is the least, its potential linear); on each piece the integrals of the
+// potential times the linear functions the forces need come from the piece's moments
+// (its area, first and second moments in the face's (u, v)), as the potential and those
+// functions are linear on the face.
 // Compiled for x86-64-v3 as well, which the loader picks where the processor has it (its
-// fused multiply-adds change the results by round-off; 6% faster).
+// fused multiply-adds change the results by round-off).
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4 &c, const Frame &tf, const double lam[4][4], double eps, int faces, std::array<Vec3, 4> &fc,
           std::array<Vec3, 4> &ft, PassResult &r) {
   // A face plane of t with all of c strictly outside: no overlap at all.
@@ -137,21 +156,22 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4
     if (lam[0][k] < 0 && lam[1][k] < 0 && lam[2][k] < 0 && lam[3][k] < 0) return;
 
   const double s = 0.25 * eps; // phi = s * N_centroid on every sub-tetrahedron
-  PV bufA[48], bufB[48], bufC[16];
+  PV bufA[16], bufB[16];
+  PV subA[24], subB[24];
   for (int f = 0; f < 4; ++f) {
     const int *fv = kFace[f];
+    const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
     // Skip a face with all three nodes strictly outside one face plane of t.
     bool out = false;
-    for (int k = 0; k < 4 && !out; ++k) out = lam[fv[0]][k] < 0 && lam[fv[1]][k] < 0 && lam[fv[2]][k] < 0;
+    for (int k = 0; k < 4 && !out; ++k) out = tri[0][k] < 0 && tri[1][k] < 0 && tri[2][k] < 0;
     if (out) continue;
     if (!(faces >> f & 1)) {
       // A face in a face plane of t is pushed all the same: the energy counts such a polygon
       // once, from t's side (on_base below), so its terms in the two tetrahedra sharing it
       // no longer cancel.
       bool in_plane = false;
-      for (int k = 0; k < 4 && !in_plane; ++k) in_plane = lam[fv[0]][k] == 0 && lam[fv[1]][k] == 0 && lam[fv[2]][k] == 0;
+      for (int k = 0; k < 4 && !in_plane; ++k) in_plane = tri[0][k] == 0 && tri[1][k] == 0 && tri[2][k] == 0;
       if (!in_plane) {
-        const double *tri[3] = {lam[fv[0]], lam[fv[1]], lam[fv[2]]};
         r.frac[f] = AreaInside(tri);
         continue;
       }
@@ -161,63 +181,45 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4
     if (dot(c[f] - c[fv[0]], av) > 0) av = -av;
     const double dA = dot(c[fv[0]] - tf.centroid, av); // (distance of face plane from t's centroid) * area
 
-    // The face clipped to t once (its vertices carry t's four barycentric coordinates), then
-    // split among t's sub-tetrahedra, each the part of t where lambda_o is the least.
-    PV *face = bufC;
-    for (int m = 0; m < 3; ++m) {
-      for (int k = 0; k < 4; ++k) face[m].n[k] = lam[fv[m]][k];
-      for (int j = 0; j < 3; ++j) face[m].l[j] = j == m;
-    }
+    // The face clipped to t once (its vertices carry t's four barycentric coordinates)
+    FaceVertices(tri, bufA);
     int nf = 3;
+    const PV *face = bufA;
     bool inside = true;
-    for (int m = 0; m < 3 && inside; ++m) inside = face[m].n[0] >= 0 && face[m].n[1] >= 0 && face[m].n[2] >= 0 && face[m].n[3] >= 0;
+    for (int m = 0; m < 3 && inside; ++m) inside = tri[m][0] >= 0 && tri[m][1] >= 0 && tri[m][2] >= 0 && tri[m][3] >= 0;
     if (!inside) {
-      PV *other = bufA;
-      for (int k = 0; k < 4 && nf > 0; ++k) {
-        if (!Cuts(face, nf, k)) continue;
-        nf = Clip(face, nf, other, k);
-        PV *tmp = face; face = other; other = tmp;
-      }
+      face = ClipToTarget(bufA, bufB, nf);
       if (nf < 3) continue;
-      if (face != bufC)
-        for (int i = 0; i < nf; ++i) bufC[i] = face[i];
-      face = bufC;
     }
     double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
     for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
       const int *tv = kFace[o];
-      // the polygon misses the sub-tetrahedron when one of its shape functions is negative at
-      // every vertex: found first, so that a missed one is not built
+      // the polygon in the sub-tetrahedron's shape functions (2.48), N_I = lambda_I - lambda_o
+      // for its base nodes and N_C = 4 lambda_o; it misses the sub-tetrahedron when one of
+      // them is negative at every vertex
+      PV  *poly = subA;
       bool skip[3] = {true, true, true}, allin = true;
       for (int i = 0; i < nf; ++i) {
         const double *lv = face[i].n;
         const double lo = lv[o];
+        PV &q = poly[i];
         for (int k = 0; k < 3; ++k) {
           const double nk = lv[tv[k]] - lo;
+          q.n[k]  = nk;
           skip[k] = skip[k] && nk < 0;
-          allin = allin && nk >= 0;
+          allin   = allin && nk >= 0;
         }
+        q.n[3] = 4.0 * lo;
+        q.u    = face[i].u;
+        q.v    = face[i].v;
       }
       if (skip[0] || skip[1] || skip[2]) continue;
-      PV *poly = bufA;
-      for (int i = 0; i < nf; ++i) {
-        const double *lv = face[i].n;
-        const double lo = lv[o];
-        PV &q = poly[i];
-        q.n[0] = lv[tv[0]] - lo; // shape functions of sub-tetrahedron (2.48):
-        q.n[1] = lv[tv[1]] - lo; //   N_I = lambda_I - lambda_o, N_C = 4 lambda_o
-        q.n[2] = lv[tv[2]] - lo;
-        q.n[3] = 4.0 * lo;
-        q.l[0] = face[i].l[0];
-        q.l[1] = face[i].l[1];
-        q.l[2] = face[i].l[2];
-      }
       // Polygon in the base plane of t with the same outward normal: its
       // energy/volume share is counted once, from t's side (doc/contact.md).
-      const bool on_base = lam[fv[0]][o] == 0 && lam[fv[1]][o] == 0 && lam[fv[2]][o] == 0 && dA > 0;
+      const bool on_base = tri[0][o] == 0 && tri[1][o] == 0 && tri[2][o] == 0 && dA > 0;
       int np = nf;
       if (!allin) {
-        PV *other = bufB;
+        PV *other = subB;
         for (int k = 0; k < 3 && np > 0; ++k) {
           if (!Cuts(poly, np, k)) continue;
           np = Clip(poly, np, other, k);
@@ -225,39 +227,45 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4
         }
         if (np < 3) continue;
       }
-      // Exact integrals of products of linear functions over a fan of
-      // triangles: int_T f g = A/12 (sum f_i g_i + sum f_i sum g_i).
-      double D = 0, mN[4] = {0, 0, 0, 0}, mL[3] = {0, 0, 0};
+      // The piece's moments about its first vertex p0, over the fan of triangles from p0, as
+      // shares of the face's area: with d = (u, v) - p0, over a triangle (p0, p1, p2) of share S,
+      // int d = S/3 (d1 + d2) and int d d^T = S/12 (d1 d1^T + d2 d2^T + (d1 + d2)(d1 + d2)^T)
+      // (the 1/3 and 1/12 applied once, below). A linear g is g(p0) + grad g . d on the face.
+      double S0 = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
       const PV &p0 = poly[0];
       for (int q = 1; q + 1 < np; ++q) {
         const PV &p1 = poly[q], &p2 = poly[q + 1];
-        const double det = p0.l[0] * (p1.l[1] * p2.l[2] - p1.l[2] * p2.l[1]) -
-                           p0.l[1] * (p1.l[0] * p2.l[2] - p1.l[2] * p2.l[0]) +
-                           p0.l[2] * (p1.l[0] * p2.l[1] - p1.l[1] * p2.l[0]); // area / face area
-        const double c0 = p0.n[3], c1 = p1.n[3], c2 = p2.n[3], sc = c0 + c1 + c2;
-        D += det;
-        for (int j = 0; j < 4; ++j)
-          mN[j] += det * (c0 * p0.n[j] + c1 * p1.n[j] + c2 * p2.n[j] + sc * (p0.n[j] + p1.n[j] + p2.n[j]));
-        for (int j = 0; j < 3; ++j)
-          mL[j] += det * (c0 * p0.l[j] + c1 * p1.l[j] + c2 * p2.l[j] + sc * (p0.l[j] + p1.l[j] + p2.l[j]));
+        const double u1 = p1.u - p0.u, v1 = p1.v - p0.v, u2 = p2.u - p0.u, v2 = p2.v - p0.v;
+        const double S = u1 * v2 - u2 * v1, su = u1 + u2, sv = v1 + v2;
+        S0 += S;
+        Su += S * su;
+        Sv += S * sv;
+        Suu += S * (u1 * u1 + u2 * u2 + su * su);
+        Suv += S * (u1 * v1 + u2 * v2 + su * sv);
+        Svv += S * (v1 * v1 + v2 * v2 + sv * sv);
       }
-      constexpr double k12 = 1.0 / 12.0;
-      for (double &x : mN) x *= k12;
-      for (double &x : mL) x *= k12;
-      wT[tv[0]] += mN[0];
-      wT[tv[1]] += mN[1];
-      wT[tv[2]] += mN[2];
-      const double cq = 0.25 * mN[3]; // the centroid's share, 1/4 to each node
+      constexpr double k3 = 1.0 / 3.0, k12 = 1.0 / 12.0;
+      const double Mu = k3 * Su, Mv = k3 * Sv, Muu = k12 * Suu, Muv = k12 * Suv, Mvv = k12 * Svv;
+      // N_C = 4 lambda_o: W0 = int N_C, (Wu, Wv) = int N_C d; then int N_C g = g(p0) W0 + grad g . (Wu, Wv)
+      const double c0 = p0.n[3], cu = 4 * (tri[1][o] - tri[0][o]), cv = 4 * (tri[2][o] - tri[0][o]);
+      const double W0 = c0 * S0 + cu * Mu + cv * Mv;
+      const double Wu = c0 * Mu + cu * Muu + cv * Muv;
+      const double Wv = c0 * Mv + cu * Muv + cv * Mvv;
+      for (int k = 0; k < 3; ++k) {
+        const int I = tv[k];
+        wT[I] += p0.n[k] * W0 + (tri[1][I] - tri[1][o] - tri[0][I] + tri[0][o]) * Wu + (tri[2][I] - tri[2][o] - tri[0][I] + tri[0][o]) * Wv;
+      }
+      const double cq = 0.25 * (c0 * W0 + cu * Wu + cv * Wv); // the centroid's share, 1/4 to each node
       for (double &w : wT) w += cq;
-      wC[0] += mL[0];
-      wC[1] += mL[1];
-      wC[2] += mL[2];
-      frac += D;
+      wC[0] += (1 - p0.u - p0.v) * W0 - Wu - Wv; // the face's shape functions 1 - u - v, u and v
+      wC[1] += p0.u * W0 + Wu;
+      wC[2] += p0.v * W0 + Wv;
+      frac += S0;
       if (!on_base) {
         // int_{c cap t_o} phi dV = 1/4 oint (x - centroid).n (phi + eps/12) dS; the
         // sub-tetrahedron's side faces pass through the centroid and drop out.
-        en += dA * (s * (mL[0] + mL[1] + mL[2]) + eps * k12 * D);
-        vol3 += dA * D;
+        en += dA * (s * W0 + eps * k12 * S0);
+        vol3 += dA * S0;
       }
     }
     if (frac == 0) continue;

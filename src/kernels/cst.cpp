@@ -10,6 +10,7 @@
 #endif
 
 #include <fdem/kernels/error.hpp>
+#include <fdem/kernels/gather.hpp>
 
 #include "materials/table.hpp"
 
@@ -206,22 +207,12 @@ void GatherColumns(const TetElement *elems, std::size_t b0, std::size_t nb, cons
 }
 
 #if defined(__x86_64__)
-// The corners of elements e[0..3] from the node array x into the columns b .. b + 3 of dst: a
-// node's three values loaded as one 4-double row (x[3n - 1 .. 3n + 2], its predecessor's z
-// first, so that the load never reads past the array's end; node 0 is built from scalars),
-// four such rows transposed.
+// The corners of elements e[0..3] from the node array x into the columns b .. b + 3 of dst
+// (GatherRows4, corner by corner).
 __attribute__((target("avx2"))) inline void CornersAVX2(const TetElement *e, const double *x, double (*dst)[kBlock], std::size_t b) {
   for (int a = 0; a < 4; ++a) {
-    __m256d r[4];
-    for (int i = 0; i < 4; ++i) {
-      const int n = e[i].n[a];
-      r[i] = n > 0 ? _mm256_loadu_pd(x + 3 * n - 1) : _mm256_set_pd(x[2], x[1], x[0], 0.0);
-    }
-    const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]); // (-, -, y0, y1), (x0, x1, z0, z1)
-    const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
-    _mm256_store_pd(&dst[3 * a][b], _mm256_permute2f128_pd(t1, t3, 0x20));
-    _mm256_store_pd(&dst[3 * a + 1][b], _mm256_permute2f128_pd(t0, t2, 0x31));
-    _mm256_store_pd(&dst[3 * a + 2][b], _mm256_permute2f128_pd(t1, t3, 0x31));
+    const int n[4] = {e[0].n[a], e[1].n[a], e[2].n[a], e[3].n[a]};
+    GatherRows4(x, n, &dst[3 * a][b], &dst[3 * a + 1][b], &dst[3 * a + 2][b]);
   }
 }
 
@@ -254,16 +245,6 @@ __attribute__((target("avx2"))) void GatherAVX2(const TetElement *elems, std::si
   GatherColumns(elems, b, nb, x, v, in);
 }
 #endif
-
-// Whether the processor has AVX2 for GatherAVX2, found once.
-const bool kGatherAVX2 = [] {
-#if defined(__x86_64__)
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") != 0;
-#else
-  return false;
-#endif
-}();
 
 // Asks for the cache line at p. Written out on x86-64: gcc 12's dead-code elimination drops
 // some __builtin_prefetch calls without a word (a loop of them over records vanished whole
@@ -310,7 +291,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) std::int64_t Batch(c
     if (nb == 0) break;
     const double *vel = Visc ? v : nullptr;
 #if defined(__x86_64__)
-    if (kGatherAVX2) GatherAVX2(elems + i, nb, x, vel, in);
+    if (kHasAVX2) GatherAVX2(elems + i, nb, x, vel, in);
     else
 #endif
       GatherColumns(elems + i, 0, nb, x, vel, in);

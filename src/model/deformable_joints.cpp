@@ -10,6 +10,7 @@
 #include "deformable_object.hpp"
 
 #include <fdem/kernels/error.hpp>
+#include <fdem/kernels/gather.hpp>
 #include <fdem/ts.h>
 #include <petscsf.h>
 #include <petscviewerhdf5.h>
@@ -334,6 +335,44 @@ static inline void JointTriangles(FDEMDeformable d, const PetscScalar *xl, std::
     }
 }
 
+// The triangles of joints j0 .. j0 + B.n - 1 into B.xa and B.xb: from the local positions xl, a
+// triangle b on another rank from d->jxb.
+static void GatherJointsColumns(FDEMDeformable d, const PetscScalar *xl, std::size_t j0, int b0, fdem::kernels::JointBlock &B) {
+  for (int b = b0; b < B.n; ++b) {
+    const std::size_t j = j0 + b;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        B.xa[3 * i + k][b] = xl[3 * d->jnode_a[j][i] + k];
+        B.xb[3 * i + k][b] = d->jnode_b[j][0] >= 0 ? xl[3 * d->jnode_b[j][i] + k] : d->jxb[9 * j + 3 * i + k];
+      }
+  }
+}
+
+#if defined(__x86_64__)
+// As GatherJointsColumns, four joints at a time where their four triangles b are on this rank
+// (GatherRows4): the same values.
+__attribute__((target("avx2"))) static void GatherJointsAVX2(FDEMDeformable d, const PetscScalar *xl, std::size_t j0, fdem::kernels::JointBlock &B) {
+  const std::array<int, 3> *na = d->jnode_a.data() + j0, *nb = d->jnode_b.data() + j0;
+  int                       b  = 0;
+  for (; b + 4 <= B.n; b += 4) {
+    if (nb[b][0] < 0 || nb[b + 1][0] < 0 || nb[b + 2][0] < 0 || nb[b + 3][0] < 0) break;
+    for (int i = 0; i < 3; ++i) {
+      const int a4[4] = {na[b][i], na[b + 1][i], na[b + 2][i], na[b + 3][i]}, b4[4] = {nb[b][i], nb[b + 1][i], nb[b + 2][i], nb[b + 3][i]};
+      fdem::kernels::GatherRows4(xl, a4, &B.xa[3 * i][b], &B.xa[3 * i + 1][b], &B.xa[3 * i + 2][b]);
+      fdem::kernels::GatherRows4(xl, b4, &B.xb[3 * i][b], &B.xb[3 * i + 1][b], &B.xb[3 * i + 2][b]);
+    }
+  }
+  GatherJointsColumns(d, xl, j0, b, B);
+}
+#endif
+
+static void GatherJointBlock(FDEMDeformable d, const PetscScalar *xl, std::size_t j0, fdem::kernels::JointBlock &B) {
+#if defined(__x86_64__)
+  if (fdem::kernels::kHasAVX2) return GatherJointsAVX2(d, xl, j0, B);
+#endif
+  GatherJointsColumns(d, xl, j0, 0, B);
+}
+
 PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
@@ -360,13 +399,9 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
   fdem::kernels::JointBlock B;
   for (std::size_t j0 = 0; j0 < nj; j0 += fdem::kernels::kJointBlock) {
     B.n = (int)std::min<std::size_t>(fdem::kernels::kJointBlock, nj - j0);
+    GatherJointBlock(d, xl, j0, B);
     for (int b = 0; b < B.n; ++b) {
       const std::size_t j = j0 + b;
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) {
-          B.xa[3 * i + k][b] = xl[3 * d->jnode_a[j][i] + k];
-          B.xb[3 * i + k][b] = d->jnode_b[j][0] >= 0 ? xl[3 * d->jnode_b[j][i] + k] : d->jxb[9 * j + 3 * i + k];
-        }
       B.law[b] = &d->jlaw[j], B.state[b] = d->jstate[j].data(), B.dissipated[b] = &d->jdiss[j];
     }
     fdem::kernels::JointBlockForces(B);
