@@ -416,12 +416,16 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
         d->jbreaks.push_back(e);
         d->jgone[j] = 1;
       }
-      for (int i = 0; i < 3; ++i)
+      const std::array<int, 3> &na = d->jnode_a[j], &nb = d->jnode_b[j];
+      for (int i = 0; i < 3; ++i) {
+        double *fa = fl + 3 * na[i], *fb = nb[0] >= 0 ? fl + 3 * nb[i] : nullptr;
         for (int k = 0; k < 3; ++k) {
-          fl[3 * d->jnode_a[j][i] + k] += B.fa[3 * i + k][b];
-          if (d->jnode_b[j][0] >= 0) fl[3 * d->jnode_b[j][i] + k] -= B.fa[3 * i + k][b];
-          else d->jfb[9 * j + 3 * i + k] = -B.fa[3 * i + k][b];
+          const double f = B.fa[3 * i + k][b];
+          fa[k] += f;
+          if (fb) fb[k] -= f;
+          else d->jfb[9 * j + 3 * i + k] = -f;
         }
+      }
     }
   }
   PetscCall(PetscSFReduceBegin(d->jsf_remote, MPIU_SCALAR, d->jfb.data(), fl, MPIU_SUM));
