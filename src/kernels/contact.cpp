@@ -95,16 +95,16 @@ inline void FaceVertices(const double *const lam[3], PV *face) {
   }
 }
 
-// The face's polygon clipped to t's four face planes (from the three vertices in face; the
-// result in face or other, returned); np its vertex count, < 3 when nothing is left.
-inline PV *ClipToTarget(PV *face, PV *other, int &np) {
-  np = 3;
-  for (int k = 0; k < 4 && np > 0; ++k) {
-    if (!Cuts(face, np, k)) continue;
-    np = Clip(face, np, other, k);
-    PV *tmp = face; face = other; other = tmp;
+// The polygon of np vertices in poly clipped to n[k] >= 0 for k < planes (a plane that cuts
+// nothing is skipped); the result in poly or other, returned, np its vertex count (< 3 when
+// nothing is left).
+inline PV *ClipAll(PV *poly, PV *other, int &np, int planes) {
+  for (int k = 0; k < planes && np > 0; ++k) {
+    if (!Cuts(poly, np, k)) continue;
+    np = Clip(poly, np, other, k);
+    PV *tmp = poly; poly = other; other = tmp;
   }
-  return face;
+  return poly;
 }
 
 // Twice the area of the triangle (p, q, r) in the face's (u, v): the share of the face's area.
@@ -130,8 +130,8 @@ double AreaInside(const double *const lam[3]) {
   if (allin) return 1;
   PV bufA[12], bufB[12];
   FaceVertices(lam, bufA);
-  int np;
-  const PV *poly = ClipToTarget(bufA, bufB, np);
+  int np = 3;
+  const PV *poly = ClipAll(bufA, bufB, np, 4);
   double D = 0;
   for (int q = 1; q + 1 < np; ++q) D += Share(poly[0], poly[q], poly[q + 1]);
   return D;
@@ -183,14 +183,9 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4
 
     // The face clipped to t once (its vertices carry t's four barycentric coordinates)
     FaceVertices(tri, bufA);
-    int nf = 3;
-    const PV *face = bufA;
-    bool inside = true;
-    for (int m = 0; m < 3 && inside; ++m) inside = tri[m][0] >= 0 && tri[m][1] >= 0 && tri[m][2] >= 0 && tri[m][3] >= 0;
-    if (!inside) {
-      face = ClipToTarget(bufA, bufB, nf);
-      if (nf < 3) continue;
-    }
+    int       nf   = 3;
+    const PV *face = ClipAll(bufA, bufB, nf, 4);
+    if (nf < 3) continue;
     double wT[4] = {0, 0, 0, 0}, wC[3] = {0, 0, 0}, frac = 0, en = 0, vol3 = 0;
     for (int o = 0; o < 4; ++o) { // target sub-tetrahedron: base = face opposite o, apex = centroid
       const int *tv = kFace[o];
@@ -219,12 +214,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void Pass(const Tet4
       const bool on_base = tri[0][o] == 0 && tri[1][o] == 0 && tri[2][o] == 0 && dA > 0;
       int np = nf;
       if (!allin) {
-        PV *other = subB;
-        for (int k = 0; k < 3 && np > 0; ++k) {
-          if (!Cuts(poly, np, k)) continue;
-          np = Clip(poly, np, other, k);
-          PV *tmp = poly; poly = other; other = tmp;
-        }
+        poly = ClipAll(poly, subB, np, 3);
         if (np < 3) continue;
       }
       // The piece's moments about its first vertex p0, over the fan of triangles from p0, as
