@@ -547,15 +547,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     const PetscReal gain = -(b.dissipated - gain_ref.dissipated);
     if (o.gain_limit > 0 && gain > o.gain_limit * scale && gain > 1e-9 * (std::fabs(first.total) + std::fabs(first.gravity) + scale) && gain > 1e-12) {
       if (bal) std::fflush(bal);
-      // spheres (or clumps) pressing on a body whose joints break under them gain energy at any
-      // step (doc/fracture.md, "Spheres on a fracturing body"): say so when the scene has both
-      bool spheres = false;
-      for (const auto &body : sc.bodies) spheres = spheres || body.model == "sphere" || !body.shape.radii.empty();
-      const char *hint = spheres && s.njoints > 0 ? " If it does not go away with a smaller step: spheres or clumps pressing on a fracturable body whose joints break under them make energy whatever the step (the contact's features multiply as the body's nodes part; doc/fracture.md, \"Spheres on a fracturing body\")." : "";
       SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
               "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.0f%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
-              "dt: auto bounds one contact of the stiffest kind; dense packs (a body pressed by several at once) and elongated bodies' rotation can be faster: lower time.safety or time.dt (-fdem_balance_gain_limit %g stops at this fraction; 0 never stops).%s",
-              sc.file.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit, hint);
+              "dt: auto bounds one contact of the stiffest kind; dense packs (a body pressed by several at once) and elongated bodies' rotation can be faster: lower time.safety or time.dt (-fdem_balance_gain_limit %g stops at this fraction; 0 never stops).",
+              sc.file.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit);
     }
     if (write && !platens.empty()) { // the force on each platen at the segment's last evaluation (collective)
       std::vector<PetscReal> F(3 * platens.size());

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,8 @@ struct Primitive {
   std::int32_t push    = 15; // tetrahedron: bit o set when its face opposite vertex o must be pushed by another's
                              // potential (a rigid skin: its surface faces; the shared ones cancel, doc/contact.md)
   std::int32_t mat     = -1; // granular material (Engine::SetGranular) for contacts with spheres; -1: none
-  std::int32_t flags   = 0;  // the adapter's own bits (the mesh adapter: 1 when the tetrahedron is at a damaged joint;
+  std::int32_t flags   = 0;  // the adapter's own bits (the mesh adapter: 1 when the tetrahedron is at a damaged joint, 2 when
+                             // it is a split cell of a fracturable body, its nodes its own;
                              // the rigid adapter: 1 for a sphere of a clump)
   double       radius  = 0;  // sphere: its radius
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
@@ -53,6 +55,10 @@ struct Primitive {
   double       inertia = 0;  // the clump's least principal moment (the time-step check, GranularStableOmega)
   std::int64_t group   = -1; // the adapter's: two primitives of one body with one group >= 0 are not paired (the mesh
                              // adapter: an unsplit tetrahedron of a body with fracture zones, its fragment's id)
+  float        share[10] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1}; // tetrahedron: the weight of a sphere's contact with its
+                             // vertex o ([o]) or its edge ([4 + m], fdem::kernels::kTetEdges order): in a split cell of a
+                             // fracturable mesh (flags bit 2), 1 over the copies of the feature on the surface
+                             // (doc/fracture.md, "Spheres on a fracturing body"); 1 elsewhere
 };
 
 // The dynamic ghost record, sent to the ghosts at every evaluation: vertex positions,
@@ -139,6 +145,10 @@ public:
     *pending = PETSC_FALSE;
     return 0;
   }
+  // After Pending() said yes: will the change move the surfaces that spheres touch (faces
+  // exposed, the weights of the copies of vertices and edges)? Then the engine also takes the
+  // spheres' contact energy with the listing before (the same answer on every rank).
+  virtual bool SurfacePending() const { return false; }
   // After a listing that this adapter's change caused: the tetrahedron pairs' contact energy
   // at that state rose by e (J, summed over ranks, the same on every rank) from the listing
   // before to the new one (pairs met already overlapped: the faces of broken joints).
@@ -287,6 +297,22 @@ private:
   // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
   // sums: energy, touching pairs, contacts without a free spring slot (added to)
   PetscErrorCode GranularForces(PetscReal sums[3], std::array<double, 3> &deep);
+  // One contact of a sphere with a surface (granular_contact.cpp): the sphere, the
+  // tetrahedron and its three vertices of the touched triangle, the contact point's weights
+  // on them, the contact, its law, its spring's key and its weight (Primitive::share).
+  struct SurfaceHit {
+    int                                 sphere, tet;
+    std::array<int, 3>                  vertex;
+    std::array<double, 3>               w;
+    fdem::kernels::GranularContact      c;
+    const fdem::kernels::GranularPair  *law;
+    std::int64_t                        key;
+    double                              share;
+  };
+  void   SurfaceHits(const std::function<void(const SurfaceHit &)> &fn);
+  double SurfaceEnergy();
+  double surface_energy_ = 0; // the normal elastic energy of the sphere-surface contacts at the last evaluation, this rank
+  double surface_before_ = 0; // the same at a new listing's state, with the listing before it (the handover)
   const fdem::kernels::GranularPair *Law(const Primitive &a, const Primitive &b) const;
   Vertices      &Force(int i) { return i < nl_ ? f_[i] : gf_[i - nl_]; }
   const Tet4    &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }

@@ -5,9 +5,11 @@
 #include "../util/guard.hpp"
 #include <fdem/kernels/granular_sweep.hpp>
 #include <fdem/kernels/sphere_surface.hpp>
+#include <fdem/kernels/tetmesh.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 namespace fdem::contact {
@@ -97,6 +99,134 @@ const GranularPair *Engine::Law(const Primitive &a, const Primitive &b) const {
   return &p;
 }
 
+// The contacts of the spheres with the surfaces near them (sgroup_) at the current state:
+// the candidate tetrahedra of one body near one sphere, their surface triangles as one surface
+// (one contact per touched face, edge or vertex, or per copy of a vertex or an edge of split
+// cells), each handed to fn with its law, its spring's key and its weight.
+void Engine::SurfaceHits(const std::function<void(const SurfaceHit &)> &fn) {
+  std::vector<Vec3>                          nodes;
+  std::vector<PetscInt>                      ids, keys;
+  std::vector<int>                           group; // per node: its vertex among the copies (keys)
+  std::vector<std::array<int, 3>>            tris;
+  std::vector<std::array<int, 4>>            src; // per triangle: its tetrahedron and the three vertices
+  std::vector<int>                           cand;
+  std::vector<fdem::kernels::SurfaceContact> contacts;
+  for (const SurfaceGroup &grp : sgroup_) {
+    const int        si = grp.sphere;
+    const Primitive &S  = P(si);
+    const Vec3       xs = X(si)[0];
+    nodes.clear();
+    ids.clear();
+    keys.clear();
+    tris.clear();
+    bool split = false;
+    src.clear();
+    for (int f = grp.begin; f < grp.end; ++f) {
+      const int        t = sface_[f][0], o = sface_[f][1];
+      const Primitive &T = P(t);
+      const Tet4      &v = X(t);
+      if (!FaceWithin(v, o, xs, S.radius)) continue; // SphereSurfaceContacts looks only at faces touched
+      std::array<int, 3> tri, vq;
+      for (int m = 0; m < 3; ++m) {
+        const int q = (o + 1 + m) % 4;
+        // a split cell's nodes are its own: each a copy of the vertex its key names
+        const PetscInt key = T.node[q] >= 0 ? T.node[q] : -1 - (PetscInt)(4 * t + q);
+        const PetscInt id  = T.flags & 2 ? -2 - (4 * (PetscInt)T.elem + q) : key;
+        int            li  = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
+        if (li == (int)ids.size()) {
+          ids.push_back(id);
+          keys.push_back(key);
+          nodes.push_back(v[q]);
+        }
+        split = split || (T.flags & 2);
+        tri[m] = li;
+        vq[m]  = q;
+      }
+      tris.push_back(tri);
+      src.push_back({t, vq[0], vq[1], vq[2]});
+    }
+    if (tris.empty()) continue; // most candidates of a search are apart at a given evaluation
+    cand.resize(tris.size());
+    for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
+    if (split) {
+      group.resize(keys.size());
+      for (size_t k = 0; k < keys.size(); ++k) group[k] = (int)(std::find(keys.begin(), keys.end(), keys[k]) - keys.begin());
+    }
+    fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand, contacts, split ? &group : nullptr);
+    for (const auto &ct : contacts) {
+      const auto      &s4  = src[ct.tri];
+      const int        t   = s4[0];
+      const Primitive &T   = P(t);
+      GranularPair     tmp;
+      double           w[3];
+      Weights(ct.point, X(t)[s4[1]], X(t)[s4[2]], X(t)[s4[3]], w);
+      const Vec3 vsurf = w[0] * V(t)[s4[1]] + w[1] * V(t)[s4[2]] + w[2] * V(t)[s4[3]];
+      GranularContact c;
+      c.n       = ct.n;
+      c.overlap = ct.overlap;
+      c.vrel    = V(si)[0] - S.radius * cross(V(si)[1], ct.n) - vsurf;
+      c.wrel    = V(si)[1];
+      c.rstar   = S.radius;
+      c.mstar   = EffectiveMass(S.mass, T.mass);
+      const GranularPair &law = ForContact(*Law(S, T), c.mstar, tmp);
+      // the feature's key: on a flat face of a rigid skin (the triangle's face, or an edge or
+      // vertex right below the centre, the normal the face's), the body and that flat face, so
+      // that the spring carries over from one triangle of the face to the next; elsewhere the
+      // body and the node ids of the face, edge or vertex touched
+      const auto        &tri   = tris[ct.tri];
+      const std::int32_t facet = T.facet[6 - s4[1] - s4[2] - s4[3]]; // the face opposite the fourth vertex
+      bool               flat  = facet >= 0 && ct.feature == TriFeature::Face;
+      if (facet >= 0 && !flat) {
+        const Vec3   nt  = cross(X(t)[s4[2]] - X(t)[s4[1]], X(t)[s4[3]] - X(t)[s4[1]]);
+        const double len = norm(nt);
+        flat             = len > 0 && std::fabs(dot(ct.n, nt)) > (1 - 1e-12) * len; // the triangle's winding is either way
+      }
+      std::uint64_t h;
+      if (flat) h = Mix(Mix(Mix(3, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)facet);
+      else {
+        PetscInt f[3];
+        int      nf = 0;
+        switch (ct.feature) {
+        case TriFeature::Face: f[0] = ids[tri[0]], f[1] = ids[tri[1]], f[2] = ids[tri[2]], nf = 3; break;
+        case TriFeature::EdgeAB: f[0] = ids[tri[0]], f[1] = ids[tri[1]], nf = 2; break;
+        case TriFeature::EdgeBC: f[0] = ids[tri[1]], f[1] = ids[tri[2]], nf = 2; break;
+        case TriFeature::EdgeCA: f[0] = ids[tri[2]], f[1] = ids[tri[0]], nf = 2; break;
+        case TriFeature::VertexA: f[0] = ids[tri[0]], nf = 1; break;
+        case TriFeature::VertexB: f[0] = ids[tri[1]], nf = 1; break;
+        case TriFeature::VertexC: f[0] = ids[tri[2]], nf = 1; break;
+        }
+        std::sort(f, f + nf);
+        h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
+        for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
+      }
+      if (S.elem) h = Mix(h, (std::uint64_t)S.elem); // the sphere within its clump
+      // a copy of a vertex or an edge of a fracturable body's split cells: its part of the
+      // contact, 1 over the copies on the surface (doc/fracture.md, "Spheres on a fracturing
+      // body"); it changes only at a listing, where joints broke
+      double share = 1;
+      switch (ct.feature) {
+      case TriFeature::Face: break;
+      case TriFeature::EdgeAB: share = T.share[4 + fdem::kernels::TetEdgeSlot(s4[1], s4[2])]; break;
+      case TriFeature::EdgeBC: share = T.share[4 + fdem::kernels::TetEdgeSlot(s4[2], s4[3])]; break;
+      case TriFeature::EdgeCA: share = T.share[4 + fdem::kernels::TetEdgeSlot(s4[3], s4[1])]; break;
+      case TriFeature::VertexA: share = T.share[s4[1]]; break;
+      case TriFeature::VertexB: share = T.share[s4[2]]; break;
+      case TriFeature::VertexC: share = T.share[s4[3]]; break;
+      }
+      const SurfaceHit q = {si, t, {s4[1], s4[2], s4[3]}, {w[0], w[1], w[2]}, c, &law, SlotKey(gtag_, h), share};
+      fn(q);
+    }
+  }
+}
+
+// The normal elastic energy of the sphere-surface contacts at the current state, their
+// weights included (the springs left out), on this rank.
+double Engine::SurfaceEnergy() {
+  double e = 0;
+  SurfaceHits([&](const SurfaceHit &q) { e += q.share * fdem::kernels::GranularElasticEnergy(*q.law, q.c.overlap, q.c.rstar, Vec3()); });
+  return e;
+}
+
 PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &deep) {
   PetscFunctionBegin;
   const double dt = has_time_ ? time_ - last_time_ : 0;
@@ -104,6 +234,7 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
   has_time_       = true;
   for (auto *a : adapters_) PetscCall(a->HistoryBegin());
   PetscInt overflow = 0;
+  surface_energy_   = 0;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     // 1. the springs stay in their holder's slots: a contact's slot is found by its key (or a
     //    free one taken, from zero) and marked seen; after the pairs, this engine's slots that
@@ -311,107 +442,22 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       Force(sph_[c])[1] += su[c].t;
     }
 
-    // 3. sphere-surface: the candidate tetrahedra of one body near one sphere, their surface
-    //    triangles as one surface (one contact per touched face, edge or vertex)
-    std::vector<Vec3>                          nodes;
-    std::vector<PetscInt>                      ids;
-    std::vector<std::array<int, 3>>            tris;
-    std::vector<std::array<int, 4>>            src; // per triangle: its tetrahedron and the three vertices
-    std::vector<int>                           cand;
-    std::vector<fdem::kernels::SurfaceContact> contacts;
-    for (const SurfaceGroup &grp : sgroup_) {
-      const int        si = grp.sphere;
-      const Primitive &S  = P(si);
-      const Vec3       xs = X(si)[0];
-      nodes.clear();
-      ids.clear();
-      tris.clear();
-      src.clear();
-      for (int f = grp.begin; f < grp.end; ++f) {
-        const int        t = sface_[f][0], o = sface_[f][1];
-        const Primitive &T = P(t);
-        const Tet4      &v = X(t);
-        if (!FaceWithin(v, o, xs, S.radius)) continue; // SphereSurfaceContacts looks only at faces touched
-        std::array<int, 3> tri, vq;
-        for (int m = 0; m < 3; ++m) {
-          const int      q  = (o + 1 + m) % 4;
-          const PetscInt id = T.node[q] >= 0 ? T.node[q] : -1 - (PetscInt)(4 * t + q);
-          int            li = (int)(std::find(ids.begin(), ids.end(), id) - ids.begin());
-          if (li == (int)ids.size()) {
-            ids.push_back(id);
-            nodes.push_back(v[q]);
-          }
-          tri[m] = li;
-          vq[m]  = q;
-        }
-        tris.push_back(tri);
-        src.push_back({t, vq[0], vq[1], vq[2]});
-      }
-      if (tris.empty()) continue; // most candidates of a search are apart at a given evaluation
-      cand.resize(tris.size());
-      for (size_t k = 0; k < tris.size(); ++k) cand[k] = (int)k;
-      fdem::kernels::SphereSurfaceContacts(xs, S.radius, nodes, tris, cand, contacts);
-      for (const auto &ct : contacts) {
-        const auto      &s4  = src[ct.tri];
-        const int        t   = s4[0];
-        const Primitive &T   = P(t);
-        GranularPair     tmp;
-        double           w[3];
-        Weights(ct.point, X(t)[s4[1]], X(t)[s4[2]], X(t)[s4[3]], w);
-        const Vec3 vsurf = w[0] * V(t)[s4[1]] + w[1] * V(t)[s4[2]] + w[2] * V(t)[s4[3]];
-        GranularContact c;
-        c.n       = ct.n;
-        c.overlap = ct.overlap;
-        c.vrel    = V(si)[0] - S.radius * cross(V(si)[1], ct.n) - vsurf;
-        c.wrel    = V(si)[1];
-        c.rstar   = S.radius;
-        c.mstar   = EffectiveMass(S.mass, T.mass);
-        const GranularPair &law = ForContact(*Law(S, T), c.mstar, tmp);
-        // the feature's key: on a flat face of a rigid skin (the triangle's face, or an edge or
-        // vertex right below the centre, the normal the face's), the body and that flat face, so
-        // that the spring carries over from one triangle of the face to the next; elsewhere the
-        // body and the node ids of the face, edge or vertex touched
-        const auto        &tri   = tris[ct.tri];
-        const std::int32_t facet = T.facet[6 - s4[1] - s4[2] - s4[3]]; // the face opposite the fourth vertex
-        bool               flat  = facet >= 0 && ct.feature == TriFeature::Face;
-        if (facet >= 0 && !flat) {
-          const Vec3   nt  = cross(X(t)[s4[2]] - X(t)[s4[1]], X(t)[s4[3]] - X(t)[s4[1]]);
-          const double len = norm(nt);
-          flat             = len > 0 && std::fabs(dot(ct.n, nt)) > (1 - 1e-12) * len; // the triangle's winding is either way
-        }
-        std::uint64_t h;
-        if (flat) h = Mix(Mix(Mix(3, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)facet);
-        else {
-          PetscInt f[3];
-          int      nf = 0;
-          switch (ct.feature) {
-          case TriFeature::Face: f[0] = ids[tri[0]], f[1] = ids[tri[1]], f[2] = ids[tri[2]], nf = 3; break;
-          case TriFeature::EdgeAB: f[0] = ids[tri[0]], f[1] = ids[tri[1]], nf = 2; break;
-          case TriFeature::EdgeBC: f[0] = ids[tri[1]], f[1] = ids[tri[2]], nf = 2; break;
-          case TriFeature::EdgeCA: f[0] = ids[tri[2]], f[1] = ids[tri[0]], nf = 2; break;
-          case TriFeature::VertexA: f[0] = ids[tri[0]], nf = 1; break;
-          case TriFeature::VertexB: f[0] = ids[tri[1]], nf = 1; break;
-          case TriFeature::VertexC: f[0] = ids[tri[2]], nf = 1; break;
-          }
-          std::sort(f, f + nf);
-          h = Mix(Mix(Mix(2, (std::uint64_t)T.kind), (std::uint64_t)T.body), (std::uint64_t)nf);
-          for (int m = 0; m < nf; ++m) h = Mix(h, (std::uint64_t)f[m]);
-        }
-        if (S.elem) h = Mix(h, (std::uint64_t)S.elem); // the sphere within its clump
-        const std::int64_t   key = SlotKey(gtag_, h);
-        double              *sp  = spring(si, key);
-        Vec3                 s   = take(sp);
-        const GranularResult r   = fdem::kernels::GranularForce(law, c, dt, s);
-        keep(sp, s);
-        const Vec3 F = r.fn + r.ft;
-        Force(si)[0] += F;
-        Force(si)[1] += cross(-S.radius * ct.n, F) + r.mroll;
-        for (int m = 0; m < 3; ++m) Force(t)[s4[1 + m]] -= w[m] * F;
-        sums[0] += fdem::kernels::GranularElasticEnergy(law, ct.overlap, c.rstar, s);
-        sums[1] += 1;
-        first(ct.overlap / (0.5 * S.radius), si, t);
-      }
-    }
+    // 3. sphere-surface (SurfaceHits)
+    SurfaceHits([&](const SurfaceHit &q) {
+      const Primitive     &S  = P(q.sphere);
+      double              *sp = spring(q.sphere, q.key);
+      Vec3                 s  = take(sp);
+      const GranularResult r  = fdem::kernels::GranularForce(*q.law, q.c, dt, s);
+      keep(sp, s);
+      const Vec3 F = q.share * (r.fn + r.ft);
+      Force(q.sphere)[0] += F;
+      Force(q.sphere)[1] += cross(-S.radius * q.c.n, F) + q.share * r.mroll;
+      for (int m = 0; m < 3; ++m) Force(q.tet)[q.vertex[m]] -= q.w[m] * F;
+      sums[0] += q.share * fdem::kernels::GranularElasticEnergy(*q.law, q.c.overlap, q.c.rstar, s);
+      surface_energy_ += q.share * fdem::kernels::GranularElasticEnergy(*q.law, q.c.overlap, q.c.rstar, Vec3());
+      sums[1] += 1;
+      first(q.c.overlap / (0.5 * S.radius), q.sphere, q.tet);
+    });
     // free this engine's slots that no contact saw. A sphere-sphere pair frees its own slot when
     // it opens; what else may leave a slot behind is a pair that is no longer a candidate (after
     // a search or a listing: every own sphere is swept then) or a sphere-surface contact (the

@@ -45,6 +45,7 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
     m->nbroken_     = t.nbroken;
     m->ndamaged_    = t.ndamaged;
     m->broken_      = t.broken_pairs;
+    PetscCall(m->Shares(t));
     m->Select(&t);
   } else {
     m->Select(nullptr);
@@ -52,6 +53,18 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
   }
   m->body_force_.assign(3 * (size_t)m->nbodies_, 0);
   *out = m;
+  PetscFunctionReturn(0);
+}
+
+// The weights of a sphere's contacts with the copies of vertices and edges, from the surface
+// of the fracture topology t (the faces Select gives the contact).
+PetscErrorCode MeshAdapter::Shares(const fdem::model::FractureTopology &t) {
+  const AllCells            &A = all_;
+  std::vector<unsigned char> surface(A.body.size(), 0);
+  PetscFunctionBegin;
+  for (size_t e = 0; e < surface.size(); ++e)
+    if (t.fracturable[A.body[e]]) surface[e] = (unsigned char)(t.cell_free[e] & 0xF & A.surf[e]);
+  PetscCall(fdem::model::DeformableFeatureShares(d_, t, surface, share_));
   PetscFunctionReturn(0);
 }
 
@@ -90,12 +103,13 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     p.key  = A.gid[e];
     p.surface = (std::int32_t)(surf & 0xF);
     p.mat     = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
-    p.flags   = frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0;
+    p.flags   = (frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0) | (frac && !(t->cell_free[e] & 0x40) ? 2 : 0);
     // held by its fragment: an unsplit cell, or a split one none of whose joints is damaged
     // (with the damaged cells in contact): SelfPair
     const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
     p.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
+    if (frac) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);
     faces_.push_back(surf);
@@ -140,6 +154,7 @@ PetscErrorCode MeshAdapter::Pending(PetscBool *pending) {
   if (!fractured_) PetscFunctionReturn(0);
   PetscCall(fdem::model::DeformableJointCounts(d_, &n, &nd)); // the same on every rank
   *pending = n != nbroken_ || (nd != ndamaged_ && damaged_cells_) ? PETSC_TRUE : PETSC_FALSE;
+  surface_pending_ = n != nbroken_;
   pending_ = *pending == PETSC_TRUE ? 1 : 0;
   PetscFunctionReturn(0);
 }
@@ -156,6 +171,7 @@ PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
   if (!pending) PetscFunctionReturn(0);
   fdem::model::FractureTopology t;
   PetscCall(fdem::model::DeformableFractureTopology(d_, t));
+  if (t.nbroken != nbroken_) PetscCall(Shares(t)); // the surface changes only where joints break
   nbroken_  = t.nbroken;
   ndamaged_ = t.ndamaged;
   broken_  = t.broken_pairs;

@@ -39,6 +39,7 @@ public:
   // The number of broken joints changed: the cells are selected again (collective).
   PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Pending(PetscBool *pending) override;
+  bool           SurfacePending() const override { return surface_pending_; }
   void           OnsetEnergy(PetscReal e) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
@@ -58,6 +59,7 @@ private:
   // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
   // topology (null when the mesh has no joints).
   void Select(const fdem::model::FractureTopology *t);
+  PetscErrorCode Shares(const fdem::model::FractureTopology &t); // share_ from t
   struct AllCells { // every local cell, kept when the mesh has joints (the selection changes)
     std::vector<PetscInt> conn, body, gid, ngid;
     std::vector<char>     surf, bnode;
@@ -68,8 +70,10 @@ private:
   PetscInt                             nbroken_ = 0;       // broken joints at the last selection
   PetscInt                             ndamaged_ = 0;      // damaged joints (a point beyond its peak) at the last selection
   int                                  pending_ = -1;      // Pending's answer, kept for the Changed that follows it at the same evaluation (-1: none)
+  bool                                 surface_pending_ = false; // Pending's: joints broke (the surface changes)
   bool                                 damaged_cells_ = true; // -fdem_joint_damaged_contact: the cells of damaged joints take part
   std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
+  std::vector<float>                   share_;             // per local cell, 10: the weights of its vertices' and edges' copies (DeformableFeatureShares), as of nbroken_
   FDEMDeformable                       d_ = nullptr;
   PetscInt                             nbodies_ = 0;
   std::vector<std::array<PetscInt, 4>> conn_;  // local node indices

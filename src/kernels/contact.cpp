@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fdem/kernels/error.hpp"
+#include "fdem/kernels/tetmesh.hpp"
 
 namespace fdem::kernels {
 namespace {
@@ -325,7 +326,6 @@ static void SnapCoordinates(double a_in_b[4][4], double b_in_a[4][4]) {
 }
 
 namespace {
-constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 // Every vertex of t below face plane k of f: lambda_k < 0 at all four (the arithmetic of Barycentric).
 bool BelowFace(const Frame &f, const Tet4 &t, int k) {
@@ -339,7 +339,7 @@ bool BelowFace(const Frame &f, const Tet4 &t, int k) {
 
 // The vertices of a and b apart along the cross product of edge i of a and edge j of b.
 bool ApartAcrossEdges(const Tet4 &a, const Tet4 &b, int i, int j) {
-  const Vec3   ea = a[kEdge[i][1]] - a[kEdge[i][0]], eb = b[kEdge[j][1]] - b[kEdge[j][0]];
+  const Vec3   ea = a[kTetEdges[i][1]] - a[kTetEdges[i][0]], eb = b[kTetEdges[j][1]] - b[kTetEdges[j][0]];
   const Vec3   n  = cross(ea, eb);
   const double nn = dot(n, n), la = dot(ea, ea), lb = dot(eb, eb);
   if (!(nn > 1e-12 * la * lb)) return false; // (nearly) parallel edges: no axis

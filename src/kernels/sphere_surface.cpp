@@ -69,7 +69,7 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
   return out;
 }
 
-void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out) {
+void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out, const std::vector<int> *group) {
   // Each touch with its feature: a face (its triangle), an edge (its two nodes, sorted) or a vertex (its node).
   struct Touch {
     SurfaceContact c;
@@ -100,7 +100,14 @@ void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nod
     if (h.kind == 1 && h.na > h.nb) std::swap(h.na, h.nb);
     touches.push_back(h);
   }
-  auto holds = [&](int t, int node) { return tris[t][0] == node || tris[t][1] == node || tris[t][2] == node; };
+  // the point a node stands for: its group (copies of one vertex), else the node
+  auto g     = [&](int node) { return group ? (*group)[node] : node; };
+  auto holds = [&](int t, int node) { return g(tris[t][0]) == g(node) || g(tris[t][1]) == g(node) || g(tris[t][2]) == g(node); };
+  // two touches of one feature in copies (the same group's vertex, or edge)
+  auto copies = [&](const Touch &a, const Touch &b) {
+    if (a.kind == 0 || a.kind != b.kind || g(a.na) != g(b.na)) return false;
+    return a.kind == 2 || g(a.nb) == g(b.nb) || (g(a.nb) == g(b.na) && g(a.na) == g(b.nb));
+  };
   auto nodes_of = [&](const Touch &h, int out[3]) {
     if (h.kind == 0) {
       for (int k = 0; k < 3; ++k) out[k] = tris[h.c.tri][k];
@@ -114,7 +121,7 @@ void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nod
     const int ka = nodes_of(a, na), kb = nodes_of(b, nb);
     for (int x = 0; x < ka; ++x)
       for (int y = 0; y < kb; ++y)
-        if (na[x] == nb[y]) return true;
+        if (g(na[x]) == g(nb[y])) return true;
     return false;
   };
   for (std::size_t i = 0; i < touches.size(); ++i) {
@@ -128,7 +135,7 @@ void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nod
       // an edge or vertex is a closest point of the surface only if it is the closest point of
       // every triangle that holds it: another triangle holding it with a nearer point of its own
       // (its face, another edge or vertex) means the sphere is over that part, not this one
-      else if (h.kind > 0 && !same && holds(o.c.tri, h.na) && (h.kind == 2 || holds(o.c.tri, h.nb))) keep = false;
+      else if (h.kind > 0 && !same && !copies(h, o) && holds(o.c.tri, h.na) && (h.kind == 2 || holds(o.c.tri, h.nb))) keep = false;
     }
     if (keep) kept.push_back(h);
   }
@@ -139,7 +146,7 @@ void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nod
     bool         keep = true;
     for (std::size_t j = 0; j < kept.size() && keep; ++j) {
       const Touch &o = kept[j];
-      if (j != i && SharesNode(h, o) && norm(h.c.point - o.c.point) < std::sqrt(r * std::max(h.c.overlap, o.c.overlap)) && (o.c.overlap > h.c.overlap || (o.c.overlap == h.c.overlap && j < i))) keep = false;
+      if (j != i && !copies(h, o) && SharesNode(h, o) && norm(h.c.point - o.c.point) < std::sqrt(r * std::max(h.c.overlap, o.c.overlap)) && (o.c.overlap > h.c.overlap || (o.c.overlap == h.c.overlap && j < i))) keep = false;
     }
     if (keep) out.push_back(h.c);
   }

@@ -503,6 +503,69 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode fdem::model::DeformableFeatureShares(FDEMDeformable d, const FractureTopology &t, const std::vector<unsigned char> &surface, std::vector<float> &share) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "DeformableFeatureShares"));
+  const PetscInt nc = (PetscInt)d->ed.size();
+  share.assign(10 * (std::size_t)nc, 1.0f);
+  if (d->local_input.empty()) PetscFunctionReturn(0); // nothing was split: every node is one copy (the same on every rank)
+  std::vector<PetscInt> cells; // the cells of fracturable bodies, 10 leaves each
+  for (PetscInt e = 0; e < nc; ++e)
+    if (t.fracturable[d->ed.body[e]]) cells.push_back(e);
+  const auto input = [&](PetscInt e, int a) { return d->local_input[d->ed.elems[e].n[a]]; };
+  const auto copy  = [&](PetscInt e, int a) { return d->node_gid[d->ed.elems[e].n[a]]; };
+  if (!d->share_sf) { // leaves: (input node, -1) for a vertex, (smaller input node, larger) for an edge
+    std::vector<std::array<PetscInt, 2>> keys(10 * cells.size());
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      for (int a = 0; a < 4; ++a) keys[10 * k + a] = {input(cells[k], a), -1};
+      for (int m = 0; m < 6; ++m) {
+        const PetscInt i = input(cells[k], fdem::kernels::kTetEdges[m][0]), j = input(cells[k], fdem::kernels::kTetEdges[m][1]);
+        keys[10 * k + 4 + m] = {std::min(i, j), std::max(i, j)};
+      }
+    }
+    PetscCall(KeySF(d->comm, keys, &d->share_sf));
+  }
+  // each leaf's copy (the split-mesh id of its node; of an edge, its two nodes' ids, smaller
+  // first) when a surface face of its cell holds it, else (-1, -1), gathered at its input
+  // vertex (edge), where the distinct copies are counted
+  std::vector<PetscInt> leaf(20 * cells.size(), -1);
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const PetscInt e = cells[k];
+    const unsigned s = surface[e] & 0xF; // bit o: the face opposite vertex o
+    for (int a = 0; a < 4; ++a)
+      if (s & ~(1u << a)) leaf[20 * k + 2 * a] = copy(e, a); // a face that is not the one opposite a
+    for (int m = 0; m < 6; ++m) {
+      const int qa = fdem::kernels::kTetEdges[m][0], qb = fdem::kernels::kTetEdges[m][1];
+      if (!(s & ~(1u << qa) & ~(1u << qb))) continue; // the faces holding edge (qa, qb) are the two opposite the others
+      leaf[20 * k + 8 + 2 * m]     = std::min(copy(e, qa), copy(e, qb));
+      leaf[20 * k + 8 + 2 * m + 1] = std::max(copy(e, qa), copy(e, qb));
+    }
+  }
+  const PetscInt *degree;
+  PetscInt        nroots, nmulti = 0;
+  PetscCall(PetscSFGetGraph(d->share_sf, &nroots, nullptr, nullptr, nullptr));
+  PetscCall(PetscSFComputeDegreeBegin(d->share_sf, &degree));
+  PetscCall(PetscSFComputeDegreeEnd(d->share_sf, &degree));
+  for (PetscInt r = 0; r < nroots; ++r) nmulti += degree[r];
+  std::vector<PetscInt> multi(2 * (std::size_t)nmulti), count(2 * (std::size_t)nmulti, 0);
+  PetscCall(PetscSFGatherBegin(d->share_sf, MPIU_2INT, leaf.data(), multi.data()));
+  PetscCall(PetscSFGatherEnd(d->share_sf, MPIU_2INT, leaf.data(), multi.data()));
+  std::vector<std::array<PetscInt, 2>> at; // one root's copies on the surface
+  for (PetscInt r = 0, off = 0; r < nroots; off += degree[r], ++r) {
+    at.clear();
+    for (PetscInt i = off; i < off + degree[r]; ++i)
+      if (multi[2 * i] >= 0) at.push_back({multi[2 * i], multi[2 * i + 1]});
+    std::sort(at.begin(), at.end());
+    const PetscInt n = (PetscInt)(std::unique(at.begin(), at.end()) - at.begin());
+    for (PetscInt i = off; i < off + degree[r]; ++i) count[2 * i] = n;
+  }
+  PetscCall(PetscSFScatterBegin(d->share_sf, MPIU_2INT, count.data(), leaf.data()));
+  PetscCall(PetscSFScatterEnd(d->share_sf, MPIU_2INT, count.data(), leaf.data()));
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    for (int f = 0; f < 10; ++f) share[10 * (std::size_t)cells[k] + f] = leaf[20 * k + 2 * f] > 1 ? (float)(1.0 / (double)leaf[20 * k + 2 * f]) : 1.0f;
+  PetscFunctionReturn(0);
+}
+
 namespace {
 // Orders fragments by body, then by id (the smallest cell id in them).
 bool FragmentBefore(const FDEMFragment &a, const FDEMFragment &b) { return a.body != b.body ? a.body < b.body : a.id < b.id; }

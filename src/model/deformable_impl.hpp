@@ -48,6 +48,17 @@ struct FractureTopology {
 // ranks it shares joints or nodes with; deformable_fragments.cpp). Nothing per fragment of
 // the whole mesh is held anywhere.
 PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
+// The weight of a sphere's contact with one copy of a vertex or an edge of a fracturable
+// body (doc/fracture.md, "Spheres on a fracturing body"): 10 per local cell, its 4 vertices and
+// then its 6 edges in the order of fdem::kernels::kTetEdges. A copy of an input vertex (edge)
+// is a node (pair of nodes) of the split mesh; the weight of each is 1 over the number of
+// distinct copies of its input vertex (edge) that lie on the surface, so that a sphere
+// touching the copies of one vertex where they coincide feels one contact in all, however
+// the joints around it have broken, and each copy pushes back by its own overlap. surface:
+// per local cell, bit o set when the face opposite vertex o is on the surface (the contact's
+// faces). 1 outside fracturable bodies. Collective (a gather to the input nodes' ranks and a
+// scatter back, over an SF built at the first call).
+PetscErrorCode DeformableFeatureShares(FDEMDeformable d, const FractureTopology &t, const std::vector<unsigned char> &surface, std::vector<float> &share);
 // The number of broken joints and of damaged joints (a point beyond its peak, broken ones
 // included), all ranks, in one reduction; collective when the mesh has joints, 0 at once (no
 // communication) when it has none. Both only grow.

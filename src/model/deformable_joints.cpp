@@ -165,6 +165,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
     PetscCallMPI(MPI_Bcast(&d->ninput_nodes, 1, MPIU_INT, 0, d->comm));
     d->owned_input.resize(d->nown);
     for (PetscInt k = 0; k < d->nown; ++k) d->owned_input[k] = mine_p[d->owned_local[k]];
+    d->local_input = std::move(mine_p);
   }
   if (nj == 0) PetscFunctionReturn(0);
   // rank 0: each joint's record (11 ints, 13 reals) to the rank of its tetrahedron a
@@ -637,6 +638,7 @@ PetscErrorCode fdem::model::deformable::DestroyJoints(FDEMDeformable d) {
   PetscCall(PetscSFDestroy(&d->jsf));
   PetscCall(PetscSFDestroy(&d->jsf_remote));
   PetscCall(PetscSFDestroy(&d->jfsf));
+  PetscCall(PetscSFDestroy(&d->share_sf));
   PetscFunctionReturn(0);
 }
 

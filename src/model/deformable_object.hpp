@@ -86,6 +86,8 @@ struct _n_FDEMDeformable {
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
   std::vector<PetscInt>                   owned_input;    // the input node of each owned node (FixNodes/MoveNodes/field ids; owned_gid unless split)
+  std::vector<PetscInt>                   local_input;    // the input node of each local node (empty when nothing was split)
+  PetscSF                                 share_sf = nullptr; // 10 leaves per cell of a fracturable body -> its input vertices and edges (DeformableFeatureShares)
   PetscInt                                ninput_nodes = 0; // nodes of the input mesh
   PetscInt                                njoints_global = 0;
   PetscReal                               joint_omega = 0;    // the joints' largest frequency (estimate), 1/s

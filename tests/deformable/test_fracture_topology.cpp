@@ -17,7 +17,10 @@
 //     joints and the broken pairs that touch the rank's cells are those of the same mesh held
 //     whole by one rank (PETSC_COMM_SELF), by cell and node id;
 //  3. on more than one rank, some fragment of the rock and some body that is not fracturable
-//     have cells on several ranks (so the labels had to cross ranks for 1 and 2 to hold).
+//     have cells on several ranks (so the labels had to cross ranks for 1 and 2 to hold);
+//  4. the weights of a sphere's contacts with the copies of the rock's vertices and edges
+//     (DeformableFeatureShares, the free faces as the surface) are 1 over the distinct copies
+//     of the input vertex (edge) on the surface, counted here over the whole mesh.
 // With -zone, the rock is fracturable only in the zone 0.1 < x < 0.7 (FDEMDeformableAddFractureZone):
 // the cut and the pocket lie in it (the pocket's wall x = 0.1 on its edge, joints between split
 // and unsplit tetrahedra), the half crack outside it (no joints there). The same 5 fragments
@@ -215,6 +218,49 @@ int main(int argc, char **argv) {
     PetscCallMPI(MPIU_Allreduce(&unsplit, &gunsplit, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
     PetscCallMPI(MPIU_Allreduce(&outside, &goutside, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
     CHECK(gunsplit == (zone ? 6 * 72 : 0) && (!zone || goutside == 6 * 72), "%" PetscInt_FMT " unsplit cells of the rock, expected %d (%" PetscInt_FMT " outside the zone)", gunsplit, zone ? 6 * 72 : 0, goutside);
+  }
+
+  // 4. the weights of a sphere's contacts with the copies of vertices and edges
+  //    (DeformableFeatureShares), the surface the free faces: 1 over the distinct copies of the
+  //    input vertex (edge) that a free face holds, the same as counted here over the whole mesh
+  {
+    std::vector<unsigned char> surf(nc), swhole(ts.cell_free.size());
+    for (PetscInt e = 0; e < nc; ++e) surf[e] = t.cell_free[e] & 0xF;
+    for (size_t e = 0; e < swhole.size(); ++e) swhole[e] = ts.cell_free[e] & 0xF;
+    std::vector<float> w;
+    PetscCall(fdem::model::DeformableFeatureShares(d, t, surf, w));
+    // the whole mesh: the copies (split-mesh node ids) on the surface of each input vertex and edge
+    std::map<std::array<PetscInt, 2>, std::set<std::array<PetscInt, 2>>> copies;
+    const auto in = [&](PetscInt e, int a) { return s->local_input[s->ed.elems[e].n[a]]; };
+    const auto id = [&](PetscInt e, int a) { return s->node_gid[s->ed.elems[e].n[a]]; };
+    for (size_t e = 0; e < swhole.size(); ++e) {
+      if (s->ed.body[e] != 0) continue;
+      for (int a = 0; a < 4; ++a)
+        if (swhole[e] & ~(1u << a)) copies[{in(e, a), -1}].insert({id(e, a), -1});
+      for (const auto &k : fdem::kernels::kTetEdges)
+        if (swhole[e] & ~(1u << k[0]) & ~(1u << k[1])) copies[{std::min(in(e, k[0]), in(e, k[1])), std::max(in(e, k[0]), in(e, k[1]))}].insert({std::min(id(e, k[0]), id(e, k[1])), std::max(id(e, k[0]), id(e, k[1]))});
+    }
+    std::map<std::array<PetscInt, 2>, PetscInt> at; // (cell id, node id) -> whole mesh cell
+    PetscInt differ4 = 0, below = 0, g4[2], l4[2];
+    for (PetscInt e = 0; e < nc; ++e) {
+      const auto lin = [&](int a) { return d->local_input[d->ed.elems[e].n[a]]; };
+      for (int f = 0; f < 10; ++f) {
+        std::array<PetscInt, 2> key;
+        if (f < 4) key = {lin(f), -1};
+        else {
+          const int qa = fdem::kernels::kTetEdges[f - 4][0], qb = fdem::kernels::kTetEdges[f - 4][1];
+          key = {std::min(lin(qa), lin(qb)), std::max(lin(qa), lin(qb))};
+        }
+        const auto  it     = copies.find(key);
+        const float expect = d->ed.body[e] != 0 || it == copies.end() || it->second.size() < 2 ? 1.0f : (float)(1.0 / (double)it->second.size());
+        differ4 += w[10 * (size_t)e + f] != expect;
+        below += w[10 * (size_t)e + f] < 1;
+      }
+    }
+    l4[0] = differ4, l4[1] = below;
+    PetscCallMPI(MPIU_Allreduce(l4, g4, 2, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(g4[0] == 0 && g4[1] > 0, "%" PetscInt_FMT " weights of copies of vertices and edges differ from 1 over the distinct copies on the surface counted over the whole mesh (%" PetscInt_FMT " below 1)", g4[0], g4[1]);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " weights of vertices and edges below 1\n", g4[1]));
   }
 
   // 3. fragments across ranks

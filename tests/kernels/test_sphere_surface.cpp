@@ -206,3 +206,48 @@ TEST(SphereSurface, FinelyMeshedFlatFaceGivesOneContact) {
   }
   EXPECT_GT(extra_before, 0) << "no centre of the sample met the case the rule is for";
 }
+
+// The cube's skin with every triangle holding copies of its nodes of its own (a fracturable
+// body's split cells), each copy in the group of the node it copies: a sphere over a face
+// near the diagonal that two triangles share feels the one face contact of the skin whose
+// triangles share nodes (the other triangle's copy of the diagonal is hidden by the face that
+// holds its group; without the groups it is a second contact), and a sphere over a corner
+// touches each of the six copies of it, at the corner, with the overlap of the one contact of
+// the shared skin (the copies neither hide nor merge with each other).
+TEST(SphereSurface, CopiesOfAVertexOrAnEdgeAreFeaturesOfTheirOwn) {
+  std::vector<Vec3>               nodes, copies;
+  std::vector<std::array<int, 3>> tris, split;
+  std::vector<int>                group;
+  Cube(nodes, tris);
+  for (const auto &t : tris) {
+    std::array<int, 3> s;
+    for (int m = 0; m < 3; ++m) {
+      s[m] = (int)copies.size();
+      copies.push_back(nodes[t[m]]);
+      group.push_back(t[m]);
+    }
+    split.push_back(s);
+  }
+  const double r = 0.5;
+  // over triangle (0, 2, 3) of the face z = 0, 0.05 from its diagonal (0, 3)
+  const Vec3 below(0.45, 0.55, -0.45);
+  const auto shared  = SphereSurfaceContacts(below, r, nodes, tris, All(tris.size()));
+  std::vector<SurfaceContact> grouped, apart;
+  SphereSurfaceContacts(below, r, copies, split, All(split.size()), grouped, &group);
+  SphereSurfaceContacts(below, r, copies, split, All(split.size()), apart);
+  ASSERT_EQ(shared.size(), 1u);
+  ASSERT_EQ(grouped.size(), 1u);
+  EXPECT_EQ(grouped[0].feature, TriFeature::Face);
+  EXPECT_NEAR(grouped[0].overlap, shared[0].overlap, 1e-15);
+  EXPECT_EQ(apart.size(), 2u); // the test needs the groups
+  // over the corner (0, 0, 0), along the diagonal
+  const Vec3 corner(-0.25, -0.25, -0.25);
+  const auto one = SphereSurfaceContacts(corner, r, nodes, tris, All(tris.size()));
+  ASSERT_EQ(one.size(), 1u);
+  SphereSurfaceContacts(corner, r, copies, split, All(split.size()), grouped, &group);
+  ASSERT_EQ(grouped.size(), 6u);
+  for (const auto &c : grouped) {
+    EXPECT_NEAR(norm(c.point), 0, 1e-15);
+    EXPECT_NEAR(c.overlap, one[0].overlap, 1e-15);
+  }
+}

@@ -47,6 +47,12 @@ struct SurfaceContact {
 // Deterministic: contacts in the order of the candidates.
 std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates);
 // The same into out (cleared first), for a caller that keeps the vector from call to call.
-void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out);
+// group (may be null: every node its own): per node, the point it is a copy of, for a surface
+// whose cells have nodes of their own (a fracturable body's split cells). Each copy of a
+// vertex or an edge is then a feature of its own, counted once, and the rules above that
+// compare features by their nodes compare them by their groups: a touch of one copy neither
+// hides nor is merged with a touch of another copy of the same vertex (edge), and a touch
+// elsewhere that holds the group hides it as it would hide a shared node.
+void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out, const std::vector<int> *group = nullptr);
 
 } // namespace fdem::kernels

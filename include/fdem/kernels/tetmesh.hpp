@@ -17,6 +17,11 @@
 
 namespace fdem::kernels {
 
+// The six edges of a tetrahedron (n0, n1, n2, n3) as vertex pairs, in the order every fdem
+// table of edges uses, and the slot of the edge (a, b) in it.
+constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+constexpr int TetEdgeSlot(int a, int b) { return a > b ? TetEdgeSlot(b, a) : a == 0 ? b - 1 : a + b; }
+
 struct TetMesh {
   std::vector<Vec3> nodes;
   std::vector<std::array<int, 4>> tets;
