@@ -140,13 +140,16 @@ void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nod
     if (keep) kept.push_back(h);
   }
   // two neighbouring features of a nearly flat fold touched at nearly one point: their contact
-  // patches overlap, one contact (the deeper; of equal ones the first)
+  // patches overlap, one contact (the deeper; of equal ones the first). With copies (group),
+  // only two faces: a copy of an edge or a vertex carries a weight of its own (the caller's),
+  // and keeping the deeper of two features of different weights would switch the weight
+  // where their depths cross
   for (std::size_t i = 0; i < kept.size(); ++i) {
     const Touch &h    = kept[i];
     bool         keep = true;
     for (std::size_t j = 0; j < kept.size() && keep; ++j) {
       const Touch &o = kept[j];
-      if (j != i && !copies(h, o) && SharesNode(h, o) && norm(h.c.point - o.c.point) < std::sqrt(r * std::max(h.c.overlap, o.c.overlap)) && (o.c.overlap > h.c.overlap || (o.c.overlap == h.c.overlap && j < i))) keep = false;
+      if (j != i && (!group || (h.kind == 0 && o.kind == 0)) && SharesNode(h, o) && norm(h.c.point - o.c.point) < std::sqrt(r * std::max(h.c.overlap, o.c.overlap)) && (o.c.overlap > h.c.overlap || (o.c.overlap == h.c.overlap && j < i))) keep = false;
     }
     if (keep) out.push_back(h.c);
   }

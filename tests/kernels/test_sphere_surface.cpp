@@ -251,3 +251,29 @@ TEST(SphereSurface, CopiesOfAVertexOrAnEdgeAreFeaturesOfTheirOwn) {
     EXPECT_NEAR(c.overlap, one[0].overlap, 1e-15);
   }
 }
+
+// The nearly flat fold of NearlyFlatFoldGivesOneContact with each triangle holding copies of
+// its nodes (the groups the nodes): the two faces of the fold still give one contact, or, over
+// the fold's edge, each triangle its copy of the edge, at one overlap (the caller weighs each
+// by 1/2). (Only faces are merged there; a face and another cell's copy of an edge or a vertex
+// that shares one node with it are not: driver_scene_fracture_on_clump.)
+TEST(SphereSurface, CopiesOnAFoldMergeOnlyFaces) {
+  const double r = 0.1;
+  for (double angle : {-1e-9, 0.0, 1e-9}) {
+    const double      c = std::cos(angle), s = std::sin(angle);
+    std::vector<Vec3> nodes = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-c, 0, s), Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(c, 0, s)};
+    std::vector<std::array<int, 3>> tris  = {{0, 1, 2}, {4, 3, 5}};
+    std::vector<int>                group = {0, 1, 2, 0, 1, 3};
+    std::vector<SurfaceContact>     cs;
+    for (double x : {0.0, 1e-12, -3e-10}) {
+      SphereSurfaceContacts(Vec3(x, 0.1, 0.095), r, nodes, tris, All(tris.size()), cs, &group);
+      // one face, or the two copies of the shared edge (the caller weighs each by 1/2)
+      ASSERT_TRUE(cs.size() == 1u || cs.size() == 2u) << "fold " << angle << ", centre x " << x;
+      for (const auto &k : cs) {
+        EXPECT_TRUE(cs.size() == 1u ? k.feature == TriFeature::Face : k.feature != TriFeature::Face && k.feature < TriFeature::VertexA) << "fold " << angle << ", centre x " << x;
+        EXPECT_NEAR(k.overlap, 0.005, 1e-6);
+      }
+      if (cs.size() == 2u) EXPECT_NE(cs[0].tri, cs[1].tri);
+    }
+  }
+}

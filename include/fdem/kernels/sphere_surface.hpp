@@ -51,8 +51,11 @@ std::vector<SurfaceContact> SphereSurfaceContacts(const Vec3 &x, double r, const
 // whose cells have nodes of their own (a fracturable body's split cells). Each copy of a
 // vertex or an edge is then a feature of its own, counted once, and the rules above that
 // compare features by their nodes compare them by their groups: a touch of one copy neither
-// hides nor is merged with a touch of another copy of the same vertex (edge), and a touch
-// elsewhere that holds the group hides it as it would hide a shared node.
+// hides nor is merged with a touch of another copy of the same vertex (edge), a touch
+// elsewhere that holds the group hides it as it would hide a shared node, and of the nearly
+// flat fold's neighbouring features only two faces are merged (a copy's contact has a weight
+// of its own: merging it with a feature of another weight would make the force jump where
+// their depths cross).
 void SphereSurfaceContacts(const Vec3 &x, double r, const std::vector<Vec3> &nodes, const std::vector<std::array<int, 3>> &tris, const std::vector<int> &candidates, std::vector<SurfaceContact> &out, const std::vector<int> *group = nullptr);
 
 } // namespace fdem::kernels
