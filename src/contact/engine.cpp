@@ -709,7 +709,7 @@ PetscErrorCode Engine::Evaluate() {
     // the spheres' contacts with the surfaces as listed so far, at this state: where joints
     // broke, a new listing changes the surface (faces exposed, the weights of the copies of a
     // vertex or an edge), and what that adds is booked with the pairs' (doc/fracture.md)
-    if (surface && spheres_) {
+    if (surface) {
       v_.resize(nl_);
       for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], v_.data() + first_[k]));
       PetscCall(UpdateGhosts(true, true));
