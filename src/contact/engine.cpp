@@ -769,7 +769,11 @@ PetscErrorCode Engine::Evaluate() {
   std::array<double, 3> deep{0, -1, -1};     // worst initial overlap ratio, the pair
   PetscCall(PairLoop(sums, deep, pending ? &sums[3] : nullptr));
   if (spheres_) PetscCall(GranularForces(sums, deep));
-  if (surface && pending) sums[3] += surface_energy_ - surface_before_;
+  if (surface && pending) // the same with the new listing, at the same state
+    PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
+      sums[3] += SurfaceEnergy() - surface_before_;
+      return 0;
+    }));
   if (!checked_initial_) PetscCall(CheckInitialOverlap(deep));
   // forces on ghosts go back to their owners and are summed there
   if (sphere_only_) {

@@ -311,8 +311,7 @@ private:
   };
   void   SurfaceHits(const std::function<void(const SurfaceHit &)> &fn);
   double SurfaceEnergy();
-  double surface_energy_ = 0; // the normal elastic energy of the sphere-surface contacts at the last evaluation, this rank
-  double surface_before_ = 0; // the same at a new listing's state, with the listing before it (the handover)
+  double surface_before_ = 0; // SurfaceEnergy at a new listing's state, with the listing before it (the handover)
   const fdem::kernels::GranularPair *Law(const Primitive &a, const Primitive &b) const;
   Vertices      &Force(int i) { return i < nl_ ? f_[i] : gf_[i - nl_]; }
   const Tet4    &X(int i) const { return i < nl_ ? x_[i] : gx_[i - nl_]; }

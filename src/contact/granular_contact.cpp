@@ -234,7 +234,6 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
   has_time_       = true;
   for (auto *a : adapters_) PetscCall(a->HistoryBegin());
   PetscInt overflow = 0;
-  surface_energy_   = 0;
   PetscCall(fdem::Guard(comm_, [&]() -> PetscErrorCode {
     // 1. the springs stay in their holder's slots: a contact's slot is found by its key (or a
     //    free one taken, from zero) and marked seen; after the pairs, this engine's slots that
@@ -454,7 +453,6 @@ PetscErrorCode Engine::GranularForces(PetscReal sums[3], std::array<double, 3> &
       Force(q.sphere)[1] += cross(-S.radius * q.c.n, F) + q.share * r.mroll;
       for (int m = 0; m < 3; ++m) Force(q.tet)[q.vertex[m]] -= q.w[m] * F;
       sums[0] += q.share * fdem::kernels::GranularElasticEnergy(*q.law, q.c.overlap, q.c.rstar, s);
-      surface_energy_ += q.share * fdem::kernels::GranularElasticEnergy(*q.law, q.c.overlap, q.c.rstar, Vec3());
       sums[1] += 1;
       first(q.c.overlap / (0.5 * S.radius), q.sphere, q.tet);
     });
