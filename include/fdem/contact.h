@@ -41,6 +41,7 @@ typedef struct {
   PetscReal buffer;          /* search buffer in use (0 before the first evaluation with an automatic buffer) */
   PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
   PetscReal onset;           /* the overlap energy that listings caused by fracture added at their state, summed (doc/fracture.md, "The handover to contact") */
+  PetscInt  kept;            /* listings caused by fracture that kept the last search (the same contact tetrahedra, only their records changed; doc/contact_engine.md) */
 } FDEMContactStats;
 
 /* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve): a

@@ -494,6 +494,7 @@ PetscErrorCode Engine::Search() {
   boxes.resize(6 * (size_t)N);
   for (int i = nl; i < N; ++i) PrimBox(gprim_[i - nl], gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
   pairs_.clear();
+  kept_.clear();
   ss_.clear();
   st_.clear();
   sp_fresh_      = true;
@@ -512,19 +513,24 @@ PetscErrorCode Engine::Search() {
         if (!have[i]) FacePlanes(X(i), &planes[16 * (size_t)i]), have[i] = 1;
         return &planes[16 * (size_t)i];
       };
+      const bool keep = Keepable();
       for (const auto &pr : tp) {
         int              a = pr.first, b = pr.second;
         const Primitive &A = P(a), &B = P(b);
         if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
         const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
+        int       itself  = 0; // a pair within one body: 1, and 2 where its adapter does not pair it now
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)
           const Adapter *ad = adapters_[A.kind];
           if (spheres || !((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
-          if (!ad->SelfPair(A, B)) continue;
+          itself = ad->SelfPair(A, B) ? 1 : 2;
+          if (itself == 2 && !keep) continue;
         }
-        // apart for as long as neither moves more than its margin: not a candidate
+        // apart for as long as neither moves more than its margin: not a candidate (not tested
+        // for a pair not paired now: kept for a listing that pairs it, it is a candidate then)
         const double gap = A.margin + B.margin;
-        if (spheres == 2) {
+        if (itself == 2) {
+        } else if (spheres == 2) {
           if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
         } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
           const int     s = A.shape == kSphere ? a : b;
@@ -536,6 +542,8 @@ PetscErrorCode Engine::Search() {
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
+        if (keep) kept_.push_back({a, b, itself});
+        if (itself == 2) continue;
         if (spheres == 0) pairs_.push_back({a, b});
         else if (spheres == 2) ss_.push_back(HolderIsFirst(P(a), P(b)) ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a}); // the holder first
         else st_.push_back(P(a).shape == kSphere ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});                      // the sphere first
@@ -552,23 +560,7 @@ PetscErrorCode Engine::Search() {
     }));
   }
   sep_.assign(pairs_.size(), 0);
-  // 4. the primitives that may get a force here: in a pair, or a ghost elsewhere; and how many
-  //    pairs each takes part in, for its adapter
-  {
-    std::vector<char>     t(nl, 0);
-    std::vector<PetscInt> count(nl, 0);
-    for (const auto *list : {&pairs_, &ss_, &st_})
-      for (const auto &p : *list)
-        for (int i : p)
-          if (i < nl) t[i] |= list != &ss_, ++count[i]; // an own sphere of a sphere-sphere pair is read and given its force without records
-    for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->PairCounts(count.data() + first_[k]));
-    for (const auto &s : send)
-      for (PetscInt i : s) t[i] = 1;
-    touch_.assign(adapters_.size(), {});
-    for (size_t k = 0; k < adapters_.size(); ++k)
-      for (int i = first_[k]; i < first_[k + 1]; ++i)
-        if (t[i]) touch_[k].push_back(i - first_[k]);
-  }
+  PetscCall(PairsListed());
   for (auto *a : adapters_) PetscCall(a->Searched());
   gf_.resize(ng_);
   searched_     = true;
@@ -578,6 +570,88 @@ PetscErrorCode Engine::Search() {
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPIU_INT, MPI_SUM, comm_));
   stats_.candidate_pairs = glob[0];
   stats_.ghosts          = glob[1];
+  PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// 4. of a search: the primitives that may get a force here (in a pair, or a ghost elsewhere)
+// and how many pairs each takes part in, for its adapter.
+PetscErrorCode Engine::PairsListed() {
+  const int nl = nl_;
+  PetscFunctionBegin;
+  std::vector<char>     t(nl, 0);
+  std::vector<PetscInt> count(nl, 0);
+  for (const auto *list : {&pairs_, &ss_, &st_})
+    for (const auto &p : *list)
+      for (int i : p)
+        if (i < nl) t[i] |= list != &ss_, ++count[i]; // an own sphere of a sphere-sphere pair is read and given its force without records
+  for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->PairCounts(count.data() + first_[k]));
+  for (const auto &l : exp_i_)
+    for (int i : l) t[i] = 1;
+  touch_.assign(adapters_.size(), {});
+  for (size_t k = 0; k < adapters_.size(); ++k)
+    for (int i = first_[k]; i < first_[k + 1]; ++i)
+      if (t[i]) touch_[k].push_back(i - first_[k]);
+  PetscFunctionReturn(0);
+}
+
+// A listing that fracture caused keeps the search when the primitives are the ones listed before,
+// in the same order (only their records changed: free faces, node keys, the flags of damaged
+// cells), on every rank: the candidates that the search found by their boxes (kept_) are still
+// all the pairs that can touch before the next search, and only whether a body's adapter pairs
+// two of its own primitives (SelfPair) may have changed. The pairs are taken again from kept_,
+// each keeping the axis that last found it apart; the ghosts get their records again. Only where
+// an adapter may list again (fracture), and not with spheres (their springs and surface groups
+// are made at a search) or periodic images.
+bool Engine::Keepable() const {
+  bool relists = false;
+  for (const auto *a : adapters_) relists = relists || a->Relists();
+  return relists && !spheres_ && !periodic_;
+}
+
+PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *kept) {
+  PetscFunctionBegin;
+  *kept = false;
+  int same = Keepable() && before.size() == prim_.size();
+  for (size_t i = 0; same && i < before.size(); ++i) {
+    const Primitive &u = before[i], &w = prim_[i];
+    same = u.kind == w.kind && u.key == w.key && u.body == w.body && u.fixed == w.fixed && u.shape == w.shape;
+  }
+  int all;
+  PetscCallMPI(MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_LAND, comm_));
+  if (!all) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
+  for (size_t i = 0; i < before.size(); ++i) prim_[i].margin = before[i].margin;
+  {
+    MPI_Datatype punit;
+    PetscCall(fdem::HaloUnit((PetscInt)sizeof(Primitive), MPI_BYTE, &punit));
+    PetscCall(PetscSFBcastBegin(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+    PetscCallMPI(MPI_Type_free(&punit));
+  }
+  std::vector<std::array<int, 2>> pairs;
+  std::vector<std::int8_t>        sep;
+  size_t                          j = 0; // the pairs before are kept_'s paired entries, in its order
+  fresh_.clear();
+  for (const auto &c : kept_) {
+    const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
+    const std::int8_t  s   = was ? sep_[j] : 0;
+    if (was) ++j;
+    if (c[2] != 0 && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
+    pairs.push_back({c[0], c[1]});
+    sep.push_back(s);
+    fresh_.push_back(was ? 0 : 1);
+  }
+  fresh_.push_back(0); // (never empty where the search was kept: PairLoop tells the two cases apart by it)
+  pairs_.swap(pairs);
+  sep_.swap(sep);
+  PetscCall(PairsListed());
+  searched_ = true;
+  PetscInt loc = (PetscInt)pairs_.size(), glob;
+  PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPIU_INT, MPI_SUM, comm_));
+  stats_.candidate_pairs = glob;
+  stats_.kept++;
+  *kept = true;
   PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -648,7 +722,7 @@ PetscErrorCode Engine::PairLoop(PetscReal sums[2], std::array<double, 3> &deep, 
       if (!hit) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
-      if (onset && !std::binary_search(old_pairs_.begin(), old_pairs_.end(), PairId(p[0], p[1]))) *onset += pc.energy;
+      if (onset && (fresh_.empty() ? !std::binary_search(old_pairs_.begin(), old_pairs_.end(), PairId(p[0], p[1])) : fresh_[q] != 0)) *onset += pc.energy;
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
@@ -688,6 +762,7 @@ PetscErrorCode Engine::Evaluate() {
   // first if a search is due, holds every pair that touches now, and a new listing keeps them
   // (fracture only adds primitives and pairs: damage never heals), so what it adds is the energy
   // of its touching pairs that the listing before did not have, found by their keys.
+  fresh_.clear(); // (made by a listing that keeps the search, for this evaluation's onset)
   if (listed_)
     for (auto *a : adapters_) {
       PetscBool p;
@@ -703,9 +778,8 @@ PetscErrorCode Engine::Evaluate() {
       for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
       PetscCall(Search());
     }
-    old_pairs_.resize(pairs_.size());
+    old_pairs_.resize(pairs_.size()); // sorted below unless the listing keeps the search
     for (size_t q = 0; q < pairs_.size(); ++q) old_pairs_[q] = PairId(pairs_[q][0], pairs_[q][1]);
-    std::sort(old_pairs_.begin(), old_pairs_.end());
     // the spheres' contacts with the surfaces as listed so far, at this state: where joints
     // broke, a new listing changes the surface (faces exposed, the weights of the copies of a
     // vertex or an edge), and what that adds is booked with the pairs' (doc/fracture.md)
@@ -726,7 +800,15 @@ PetscErrorCode Engine::Evaluate() {
     if (changed) listed_ = false;
   }
   pending = pending && changer != nullptr; // (the same on every rank)
-  if (!listed_) PetscCall(ListAll());
+  if (!listed_) {
+    const bool             searched = searched_;
+    std::vector<Primitive> before;
+    if (searched && Keepable()) before = prim_;
+    PetscCall(ListAll());
+    bool kept = false;
+    if (searched) PetscCall(KeepSearch(before, &kept));
+    if (pending && !kept) std::sort(old_pairs_.begin(), old_pairs_.end()); // a search follows: its pairs are found among the old ones by their keys
+  }
   if (!spheres_) PetscCall(CheckPenaltySet()); // with spheres: only when two tetrahedra meet
   if (ts_ && ts_ != checked_ts_) { // once per TS, at its first evaluation: the contact frequency against K_crit
     TSType         type;
@@ -747,6 +829,10 @@ PetscErrorCode Engine::Evaluate() {
   PetscCall(SearchDue(&search));
   ++since_search_;
   if (search) {
+    if (!fresh_.empty()) { // the kept search's pairs give way to a new search's (a buffer of 0): found by their keys
+      fresh_.clear();
+      std::sort(old_pairs_.begin(), old_pairs_.end());
+    }
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));
     PetscCall(Search());
   }

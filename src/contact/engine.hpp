@@ -138,6 +138,9 @@ public:
     *changed = PETSC_FALSE;
     return 0;
   }
+  // May Changed() report a change during a run (a mesh with fracture joints)? The engine then
+  // keeps what a listing with the same primitives needs to keep its search (KeepSearch).
+  virtual bool Relists() const { return false; }
   // Will the next Changed() report a change? (no state changes; collective, the same answer
   // on every rank). The engine then first takes the contact energy of the current listing at
   // the current state, to book the energy the new listing adds (OnsetEnergy).
@@ -283,7 +286,7 @@ private:
   PetscErrorCode SearchDue(bool *due);
   // Evaluate's loop over the tetrahedron pairs: forces, sums[0] += energy, sums[1] += touching
   // pairs; deep: the initial-overlap check's worst pair. With onset: the energy of the touching
-  // pairs that are not in old_pairs_ is added to it.
+  // pairs that are not in old_pairs_ (fresh_ where the listing kept the search) is added to it.
   PetscErrorCode PairLoop(PetscReal sums[2], std::array<double, 3> &deep, PetscReal *onset);
   // A pair's identity across listings: its primitives' (key, kind), smaller first.
   std::array<std::int64_t, 2> PairId(int i, int j) const {
@@ -292,6 +295,9 @@ private:
   }
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
+  PetscErrorCode PairsListed();
+  bool           Keepable() const;
+  PetscErrorCode KeepSearch(const std::vector<Primitive> &before, bool *kept);
   PetscErrorCode UpdateGhosts(bool x, bool v);
   PetscErrorCode UpdateSphereGhosts();
   // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
@@ -348,8 +354,10 @@ private:
   std::vector<std::uint16_t>    seen_;           // per own sphere: the spring slots a contact used at this evaluation
   std::vector<HistorySlot *>    hslots_;         // per own sphere: its spring slots, looked up once per evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
-  std::vector<std::array<std::int64_t, 2>> old_pairs_; // at a listing caused by fracture: the listing before's pairs (PairId, sorted)
+  std::vector<std::array<std::int64_t, 2>> old_pairs_; // at a listing caused by fracture: the listing before's pairs (PairId, sorted where a search follows)
+  std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it (and one more entry); empty otherwise
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
+  std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 1 within a body, 2 within a body and not paired by its adapter at the search
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
   // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring

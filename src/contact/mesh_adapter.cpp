@@ -9,7 +9,7 @@
 #include <new>
 
 namespace fdem::contact {
-PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **out) {
+PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, MeshAdapter **out) {
   PetscInt  nc, nlocal;
   MPI_Comm  comm;
   DM        dm;
@@ -38,7 +38,9 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, MeshAdapter **
     PetscOptionsBegin(comm, nullptr, "fdem contact of fracturable bodies", "FDEMDeformableContact");
     PetscCall(PetscOptionsBool("-fdem_joint_damaged_contact", "The tetrahedra at a joint that has softened (a point beyond its peak) take part in contact, and so do neighbours by an edge or a vertex once a joint has softened (false: only once it has broken; cheaper, but a crack's sides that slide before it breaks meet deeply overlapped; doc/fracture.md)", "", dc, &dc, nullptr));
     PetscOptionsEnd();
-    m->damaged_cells_ = dc;
+    // an engine that pairs the mesh only with other kinds has no crack's sides to keep apart:
+    // it lists the cells with a free face (or vertex), and lists again only where joints break
+    m->damaged_cells_ = dc && pairs == Pairs::WithItself;
     fdem::model::FractureTopology t;
     PetscCall(fdem::model::DeformableFractureTopology(d, t));
     m->fracturable_ = t.fracturable;

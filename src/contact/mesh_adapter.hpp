@@ -12,8 +12,12 @@ public:
   // Which cells take part: those with a boundary face (the surface tetrahedra), or
   // those with a vertex on the boundary (a rigid corner may enter through an edge).
   enum class Cells { BoundaryFace, BoundaryVertex };
+  // Which pairs the engine forms with the mesh: its cells with each other (a body against
+  // itself or another mesh body), or only with other kinds (rigid bodies, spheres). Only the
+  // first needs the cells at damaged joints (a crack's sides, MeshAdapter::Select).
+  enum class Pairs { WithItself, OtherKindsOnly };
   // Collective: finds the cells (after FDEMDeformableSetUp).
-  static PetscErrorCode Create(FDEMDeformable d, Cells which, MeshAdapter **out);
+  static PetscErrorCode Create(FDEMDeformable d, Cells which, Pairs pairs, MeshAdapter **out);
   // Before each evaluation: local (ghosted) positions xl, velocities vl (may be null) and
   // forces fl (added to), in the node numbering of the mesh's local vectors.
   void Bind(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl) {
@@ -40,6 +44,7 @@ public:
   PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Pending(PetscBool *pending) override;
   bool           SurfacePending() const override { return surface_pending_; }
+  bool           Relists() const override { return fractured_; }
   void           OnsetEnergy(PetscReal e) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
