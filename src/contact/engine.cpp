@@ -480,14 +480,8 @@ PetscErrorCode Engine::Search() {
   if (sunit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(SphereNow) / sizeof(PetscReal)), MPIU_REAL, &sunit_));
   if (funit_ == MPI_DATATYPE_NULL) PetscCall(fdem::HaloUnit((PetscInt)(sizeof(SphereSum) / sizeof(PetscReal)), MPIU_REAL, &funit_));
   PetscCall(fdem::HaloSF(comm_, nl, ghosts, &sf_));
-  {
-    MPI_Datatype punit;
-    gprim_.resize(ng_);
-    PetscCall(fdem::HaloUnit((PetscInt)sizeof(Primitive), MPI_BYTE, &punit));
-    PetscCall(PetscSFBcastBegin(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCallMPI(MPI_Type_free(&punit));
-  }
+  gprim_.resize(ng_);
+  PetscCall(SendRecords());
   PetscCall(UpdateGhosts(true, false));
   // 3. the candidate pairs among own and ghost primitives: boxes that overlap
   const int N = nl + ng_;
@@ -529,7 +523,7 @@ PetscErrorCode Engine::Search() {
         // apart for as long as neither moves more than its margin: not a candidate (not tested
         // for a pair not paired now: kept for a listing that pairs it, it is a candidate then)
         const double gap = A.margin + B.margin;
-        if (itself == 2) {
+        if (itself == 2) { // (no gap test: see above)
         } else if (spheres == 2) {
           if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
         } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
@@ -571,6 +565,17 @@ PetscErrorCode Engine::Search() {
   stats_.candidate_pairs = glob[0];
   stats_.ghosts          = glob[1];
   PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// The own primitives' records to their ghosts (gprim_, sized), over the search's SF.
+PetscErrorCode Engine::SendRecords() {
+  MPI_Datatype punit;
+  PetscFunctionBegin;
+  PetscCall(fdem::HaloUnit((PetscInt)sizeof(Primitive), MPI_BYTE, &punit));
+  PetscCall(PetscSFBcastBegin(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&punit));
   PetscFunctionReturn(0);
 }
 
@@ -622,13 +627,7 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
   if (!all) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   for (size_t i = 0; i < before.size(); ++i) prim_[i].margin = before[i].margin;
-  {
-    MPI_Datatype punit;
-    PetscCall(fdem::HaloUnit((PetscInt)sizeof(Primitive), MPI_BYTE, &punit));
-    PetscCall(PetscSFBcastBegin(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(sf_, punit, prim_.data(), gprim_.data(), MPI_REPLACE));
-    PetscCallMPI(MPI_Type_free(&punit));
-  }
+  PetscCall(SendRecords());
   std::vector<std::array<int, 2>> pairs;
   std::vector<std::int8_t>        sep;
   size_t                          j = 0; // the pairs before are kept_'s paired entries, in its order
@@ -642,7 +641,7 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
     sep.push_back(s);
     fresh_.push_back(was ? 0 : 1);
   }
-  fresh_.push_back(0); // (never empty where the search was kept: PairLoop tells the two cases apart by it)
+  fresh_valid_ = true;
   pairs_.swap(pairs);
   sep_.swap(sep);
   PetscCall(PairsListed());
@@ -722,7 +721,7 @@ PetscErrorCode Engine::PairLoop(PetscReal sums[2], std::array<double, 3> &deep, 
       if (!hit) continue;
       sums[0] += pc.energy;
       sums[1] += 1;
-      if (onset && (fresh_.empty() ? !std::binary_search(old_pairs_.begin(), old_pairs_.end(), PairId(p[0], p[1])) : fresh_[q] != 0)) *onset += pc.energy;
+      if (onset && (fresh_valid_ ? fresh_[q] != 0 : !std::binary_search(old_pairs_.begin(), old_pairs_.end(), PairId(p[0], p[1])))) *onset += pc.energy;
       fa = pc.fa;
       fb = pc.fb;
       if (with_v_) {
@@ -762,7 +761,7 @@ PetscErrorCode Engine::Evaluate() {
   // first if a search is due, holds every pair that touches now, and a new listing keeps them
   // (fracture only adds primitives and pairs: damage never heals), so what it adds is the energy
   // of its touching pairs that the listing before did not have, found by their keys.
-  fresh_.clear(); // (made by a listing that keeps the search, for this evaluation's onset)
+  fresh_valid_ = false; // (set by a listing that keeps the search, for this evaluation's onset)
   if (listed_)
     for (auto *a : adapters_) {
       PetscBool p;
@@ -829,8 +828,8 @@ PetscErrorCode Engine::Evaluate() {
   PetscCall(SearchDue(&search));
   ++since_search_;
   if (search) {
-    if (!fresh_.empty()) { // the kept search's pairs give way to a new search's (a buffer of 0): found by their keys
-      fresh_.clear();
+    if (fresh_valid_) { // the kept search's pairs give way to a new search's (a buffer of 0): found by their keys
+      fresh_valid_ = false;
       std::sort(old_pairs_.begin(), old_pairs_.end());
     }
     for (size_t k = 0; k < adapters_.size(); ++k) PetscCall(adapters_[k]->Gather(nullptr, x_.data() + first_[k], nullptr));

@@ -295,6 +295,7 @@ private:
   }
   PetscErrorCode CheckInitialOverlap(const std::array<double, 3> &deep);
   PetscErrorCode Search();
+  PetscErrorCode SendRecords();
   PetscErrorCode PairsListed();
   bool           Keepable() const;
   PetscErrorCode KeepSearch(const std::vector<Primitive> &before, bool *kept);
@@ -355,7 +356,8 @@ private:
   std::vector<HistorySlot *>    hslots_;         // per own sphere: its spring slots, looked up once per evaluation
   std::vector<std::array<int, 2>> pairs_;      // (a, b), a before b, computed here (at least one own)
   std::vector<std::array<std::int64_t, 2>> old_pairs_; // at a listing caused by fracture: the listing before's pairs (PairId, sorted where a search follows)
-  std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it (and one more entry); empty otherwise
+  std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it
+  bool                            fresh_valid_ = false; // fresh_ is this evaluation's (else old_pairs_ is sorted and searched)
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
   std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 1 within a body, 2 within a body and not paired by its adapter at the search
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
