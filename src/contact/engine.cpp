@@ -499,7 +499,16 @@ PetscErrorCode Engine::Search() {
       fdem::kernels::BoxSearch         bs;
       std::vector<std::pair<int, int>> tp;
       bs.Build(boxes.data(), N);
-      bs.FindPairs(tp);
+      // each box's class (kind, fixed): only pairs of classes that may meet are listed (a
+      // fixed body meets moving ones only; a kind the engine pairs with others only, such as
+      // the mesh of the contact with rigid bodies, has its own pairs left out of the search)
+      std::vector<std::uint8_t> cls(N);
+      std::uint64_t             meet = 0;
+      for (int i = 0; i < N; ++i) cls[i] = (std::uint8_t)(2 * P(i).kind + (P(i).fixed ? 1 : 0));
+      for (int ca = 0; ca < 8; ++ca)
+        for (int cb = 0; cb < 8; ++cb)
+          if (allow_[ca / 2][cb / 2] && !(ca % 2 && cb % 2)) meet |= std::uint64_t(1) << (8 * ca + cb);
+      bs.FindPairs(tp, cls.data(), meet);
       // face planes, made when a pair first needs them
       std::vector<double> planes(16 * (size_t)N);
       std::vector<char>   have(N, 0);

@@ -127,10 +127,13 @@ bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
   // fragments, and a crack's sides through its damaged cells. So an intact fracturable body
   // costs the contact what the same body unsplit does.
   if (a.group >= 0 && a.group == b.group) return false;
-  if (fractured_ && fracturable_[a.body]) {
-    const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
-    if (std::binary_search(broken_.begin(), broken_.end(), k)) return true; // the two sides of a broken joint
-  }
+  if (NeighbourPair(a, b)) return true;
+  // the two sides of a broken joint (asked last: most pairs are decided above)
+  const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};
+  return fractured_ && fracturable_[a.body] && std::binary_search(broken_.begin(), broken_.end(), k);
+}
+
+bool MeshAdapter::NeighbourPair(const Primitive &a, const Primitive &b) const {
   if (fractured_ && fracturable_[a.body] && (nbroken_ > 0 || (damaged_cells_ && ndamaged_ > 0))) {
     // Once a joint has softened, only a face glued by an intact joint (three shared node keys)
     // keeps two tetrahedra of a fracturable body apart; neighbours by an edge or a vertex are

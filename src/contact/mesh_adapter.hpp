@@ -40,6 +40,8 @@ public:
   // its copies by intact joints), unless the two are the sides of a broken joint.
   bool           AlwaysSelfContact(PetscInt body) const override { return fractured_ && fracturable_[body]; }
   bool           SelfPair(const Primitive &a, const Primitive &b) const override;
+  // SelfPair without its groups and broken joints: the rule for tetrahedra by the node keys they share
+  bool           NeighbourPair(const Primitive &a, const Primitive &b) const;
   // The number of broken joints changed: the cells are selected again (collective).
   PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Pending(PetscBool *pending) override;

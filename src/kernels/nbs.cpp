@@ -474,17 +474,18 @@ void BoxSearch::Build(const double *boxes, int n) {
   }
 }
 
-void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
+void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs, const std::uint8_t *cls, std::uint64_t meet) const {
   pairs.clear();
   const double *B = boxes_.data();
   std::vector<std::pair<int, int>> tp;
   std::vector<int> hits;
+  auto may = [&](int a, int b) { return !cls || (meet >> (8 * cls[a] + cls[b]) & 1u); };
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     const Level &L = levels_[l];
     L.cs.FindPairs(tp); // cubes around the boxes: test the boxes themselves
     for (const auto &p : tp) {
       const int a = L.ids[p.first], b = L.ids[p.second];
-      if (BoxesMeet(B + 6 * std::size_t(a), B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+      if (may(a, b) && BoxesMeet(B + 6 * std::size_t(a), B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
     }
     for (std::size_t k = 0; k < l; ++k) // the smaller levels, one query per box of this level
       for (int a : L.ids) {
@@ -493,7 +494,7 @@ void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
         levels_[k].cs.FindInBox(ba, ba + 3, hits);
         for (int j : hits) {
           const int b = levels_[k].ids[j];
-          if (BoxesMeet(ba, B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+          if (may(a, b) && BoxesMeet(ba, B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
         }
       }
   }

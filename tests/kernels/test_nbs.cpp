@@ -333,6 +333,31 @@ TEST(BoxSearch, MixedSizesAgainstBruteForce) {
   }
 }
 
+TEST(BoxSearch, ClassesThatMayMeet) {
+  // classes 0..5 (the contact engine's kind and fixed flag); 0 meets 2, 3 and 5; 2 meets 2 and 3;
+  // 5 meets 1; nothing else. The listed pairs are the unfiltered search's of those classes, in its order.
+  std::mt19937_64 rng(7);
+  const int                 n = 2000;
+  const std::vector<double> b = MixedBoxes(rng, n, 10.0, 0.4);
+  std::vector<std::uint8_t> cls(n);
+  for (int i = 0; i < n; ++i) cls[i] = (std::uint8_t)(rng() % 6);
+  std::uint64_t meet = 0;
+  auto          both = [&](int x, int y) { meet |= std::uint64_t(1) << (8 * x + y), meet |= std::uint64_t(1) << (8 * y + x); };
+  both(0, 2), both(0, 3), both(0, 5), both(2, 2), both(2, 3), both(5, 1);
+  BoxSearch bs;
+  bs.Build(b.data(), n);
+  Pairs all, got, ref;
+  bs.FindPairs(all);
+  bs.FindPairs(got, cls.data(), meet);
+  for (const auto &p : all)
+    if (meet >> (8 * cls[p.first] + cls[p.second]) & 1u) ref.push_back(p);
+  EXPECT_EQ(got, ref);
+  EXPECT_GT(ref.size(), 500u);
+  EXPECT_LT(ref.size(), all.size() / 2) << "most pairs are of classes that do not meet";
+  bs.FindPairs(got, cls.data(), 0); // no class meets any
+  EXPECT_TRUE(got.empty());
+}
+
 TEST(BoxSearch, EqualSizesTouchingAndDegenerate) {
   // a lattice of unit boxes touching face to face, and flat boxes (zero thickness)
   std::vector<double> b;

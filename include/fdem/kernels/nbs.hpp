@@ -80,8 +80,10 @@ public:
   // on n < 0, a non-finite coordinate or lo > hi.
   void Build(const double *boxes, int n);
   // All pairs (i, j), i < j, of boxes that overlap or touch, each once, in an
-  // order that depends only on the boxes. `pairs` is cleared first.
-  void FindPairs(std::vector<std::pair<int, int>> &pairs) const;
+  // order that depends only on the boxes. `pairs` is cleared first. With cls
+  // (n numbers below 8, one a box), only the pairs whose classes may meet:
+  // bit 8 ca + cb of `meet` set (and bit 8 cb + ca), in the same order.
+  void FindPairs(std::vector<std::pair<int, int>> &pairs, const std::uint8_t *cls = nullptr, std::uint64_t meet = ~std::uint64_t(0)) const;
   int NumLevels() const { return static_cast<int>(levels_.size()); }
 
 private:
