@@ -227,15 +227,16 @@ PetscErrorCode MeshAdapter::Margins(PetscReal half, PetscInt, PetscReal *m) {
 }
 
 PetscErrorCode MeshAdapter::MoveRatio(PetscReal *ratio) {
-  PetscReal move = 0;
+  PetscReal move2 = 0; // the largest squared move (its root is the largest move: one root, not one a vertex)
   PetscFunctionBegin;
   for (size_t t = 0; t < conn_.size(); ++t)
     for (int q = 0; q < 4; ++q) {
       const PetscInt a = 3 * conn_[t][q];
       const Vec3    &r = ref_[t][q];
-      move             = std::max(move, PetscSqrtReal(PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2])));
+      move2            = std::max(move2, PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2]));
     }
-  *ratio = half_ > 0 ? move / half_ : move > 0 ? PETSC_MAX_REAL : 0;
+  const PetscReal move = PetscSqrtReal(move2);
+  *ratio               = half_ > 0 ? move / half_ : move > 0 ? PETSC_MAX_REAL : 0;
   PetscFunctionReturn(0);
 }
 
