@@ -519,8 +519,7 @@ PetscErrorCode Engine::Search() {
       const bool keep = Keepable();
       for (const auto &pr : tp) {
         int              a = pr.first, b = pr.second;
-        const Primitive &A = P(a), &B = P(b);
-        if (!allow_[A.kind][B.kind] || (A.fixed && B.fixed)) continue;
+        const Primitive &A = P(a), &B = P(b); // (kinds allowed together, not both fixed: the box classes above)
         const int spheres = (A.shape == kSphere) + (B.shape == kSphere);
         int       itself  = 0; // a pair within one body: 1, and 2 where its adapter does not pair it now
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)

@@ -40,8 +40,6 @@ public:
   // its copies by intact joints), unless the two are the sides of a broken joint.
   bool           AlwaysSelfContact(PetscInt body) const override { return fractured_ && fracturable_[body]; }
   bool           SelfPair(const Primitive &a, const Primitive &b) const override;
-  // SelfPair without its groups and broken joints: the rule for tetrahedra by the node keys they share
-  bool           NeighbourPair(const Primitive &a, const Primitive &b) const;
   // The number of broken joints changed: the cells are selected again (collective).
   PetscErrorCode Changed(PetscBool *changed) override;
   PetscErrorCode Pending(PetscBool *pending) override;
@@ -63,6 +61,8 @@ public:
   }
 
 private:
+  // SelfPair without its groups and broken joints: the rule by the nodes (node keys) two tetrahedra share
+  bool NeighbourPair(const Primitive &a, const Primitive &b) const;
   // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
   // topology (null when the mesh has no joints).
   void Select(const fdem::model::FractureTopology *t);
