@@ -12,6 +12,7 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <cmath>
 
@@ -164,7 +165,7 @@ PetscErrorCode SelectNodes(const Sim &s, const Body &b, const NodeSet &ns, const
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BuildDeformable(Sim &s) {
+PetscErrorCode BuildDeformable(Sim &s, const std::vector<PetscInt> &fracture_cells) {
   const Scene                 &sc = *s.scene;
   std::vector<PetscReal>       nodes;
   std::vector<PetscInt>        tets, body, fixed;
@@ -215,7 +216,12 @@ PetscErrorCode BuildDeformable(Sim &s) {
       const PetscReal lo[3] = {z.lo.x, z.lo.y, z.lo.z}, hi[3] = {z.hi.x, z.hi.y, z.hi.z};
       PetscCall(FDEMDeformableAddFractureZone(s.dfm, sc.bodies[i].name.c_str(), lo, hi));
     }
+    if (m.fracture.present && m.fracture.insert_at > 0) {
+      PetscCall(FDEMDeformableSetFractureInsertion(s.dfm, sc.bodies[i].name.c_str(), m.fracture.insert_at));
+      s.inserting = true;
+    }
   }
+  PetscCall(FDEMDeformableAddFractureCells(s.dfm, (PetscInt)fracture_cells.size(), fracture_cells.data()));
   const bool root = rank == 0;
   PetscCall(FDEMDeformableSetMesh(s.dfm, root ? s.nnodes : 0, nodes.data(), root ? s.ntets : 0, tets.data(), body.data(), (PetscInt)names.size(), cnames.data()));
   const PetscReal g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
@@ -273,7 +279,7 @@ double ElementFrequency(const kernels::TetMesh &m, const Material &mat) {
   return 2 * cp / hmin;
 }
 
-PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, Sim &s) {
+PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, Sim &s, const std::vector<PetscInt> &fracture_cells) {
   PetscFunctionBeginUser;
   s.comm   = comm;
   s.scene  = &sc;
@@ -294,7 +300,7 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
   PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)", sc.file.c_str(),
              sc.periodic.where.c_str(), s.deformable_bodies.empty() ? "" : sc.bodies[s.deformable_bodies[0]].name.c_str());
-  if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s));
+  if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s, fracture_cells));
   PetscCall(FDEMSceneCreate(comm, &s.sc));
   if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
   if (s.dfm) PetscCall(FDEMSceneSetDeformable(s.sc, s.dfm));
@@ -686,8 +692,8 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   PetscCall(MakeParts(s, p));
   PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_READ, &v));
   if (s.dfm) {
-    PetscCall(VecLoad(p.ndx, v));
-    PetscCall(VecLoad(p.ndv, v));
+    PetscCall(FDEMDeformableLoadNodeVector(s.dfm, v, p.ndx)); // (into a larger split after an insertion)
+    PetscCall(FDEMDeformableLoadNodeVector(s.dfm, v, p.ndv));
     PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
@@ -748,6 +754,56 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(p.Destroy());
   if (s.rb) PetscCall(FDEMRigidMigrate(s.rb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimReadFractureCells(MPI_Comm comm, const char *file, std::vector<PetscInt> &cells) {
+  PetscViewer v;
+  PetscInt    n, *c;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5Open(comm, file, FILE_MODE_READ, &v));
+  PetscCall(FDEMDeformableReadFractureCells(comm, v, &n, &c));
+  cells.assign(c, c + n);
+  PetscCall(PetscFree(c));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimFindCellsToSplit(Sim &s, std::vector<PetscInt> &cells) {
+  PetscInt n = 0, *c = nullptr;
+  PetscFunctionBeginUser;
+  cells.clear();
+  if (!s.inserting) PetscFunctionReturn(0);
+  PetscCall(FDEMDeformableFindCellsToSplit(s.dfm, nullptr, &n, &c));
+  cells.assign(c, c + n);
+  PetscCall(PetscFree(c));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells, const std::string &file, PetscReal t, PetscInt step, PetscReal dt) {
+  Sim             n;
+  PetscInt        nc;
+  const PetscInt *have;
+  PetscReal       t1, dt1;
+  PetscInt        step1;
+  PetscMPIInt     rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
+  PetscCall(SimWriteCheckpoint(s, file.c_str(), t, step, dt));
+  PetscCall(FDEMDeformableGetFractureCells(s.dfm, &nc, &have));
+  std::vector<PetscInt> all(have, have + nc);
+  all.insert(all.end(), cells.begin(), cells.end());
+  PetscBool given; // the bodies' overlaps were made by the run, as at a restart
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
+  if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
+  PetscCall(SimBuild(s.comm, *s.scene, s.meshes, n, all));
+  if (n.dfm) PetscCall(FDEMDeformableContinueOutput(n.dfm, s.dfm));
+  if (n.rb) PetscCall(FDEMRigidContinueOutput(n.rb, s.rb));
+  PetscCall(SimReadCheckpoint(n, file.c_str(), &t1, &step1, &dt1));
+  PetscCall(SimDestroy(s));
+  s = std::move(n);
+  PetscCallMPI(MPI_Barrier(s.comm));
+  if (rank == 0) std::remove(file.c_str());
   PetscFunctionReturn(0);
 }
 

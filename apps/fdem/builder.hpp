@@ -46,10 +46,13 @@ struct Sim {
   PetscInt                      nrigid = 0, ntets = 0, nnodes = 0, ndofs = 0, nfixed_nodes = 0, nmoved_nodes = 0, njoints = 0; // nnodes: after any split
   double                        E0    = 0; // total energy at the start (for `dissipated`)
   bool                          have_E0 = false;
+  bool                          inserting = false; // some deformable body gets joints during the run
 };
 
 // Builds the models of the scene (only those it uses). Collective.
-PetscErrorCode SimBuild(MPI_Comm comm, const Scene &scene, std::vector<kernels::TetMesh> meshes, Sim &sim);
+// fracture_cells: tetrahedra of bodies with joints inserted during the run that are split
+// already (FDEMDeformableAddFractureCells; from a checkpoint or an insertion).
+PetscErrorCode SimBuild(MPI_Comm comm, const Scene &scene, std::vector<kernels::TetMesh> meshes, Sim &sim, const std::vector<PetscInt> &fracture_cells = {});
 // Creates sim.ts (type `scheme`) and sim.U from the models' stored state. Time and step as given.
 PetscErrorCode SimSetUpTS(Sim &sim, const char *scheme, PetscReal t, PetscInt step);
 // Copies sim.U back into the models, destroys the TS and U.
@@ -71,6 +74,15 @@ PetscErrorCode SimWriteOutput(Sim &sim, const std::string &dir, PetscInt step, P
 PetscErrorCode SimWriteCheckpoint(Sim &sim, const char *file, PetscReal t, PetscInt step, PetscReal dt);
 // Loads a checkpoint into the models (any rank count) and migrates the rigid bodies; gives t, step and dt.
 PetscErrorCode SimReadCheckpoint(Sim &sim, const char *file, PetscReal *t, PetscInt *step, PetscReal *dt);
+// The tetrahedra split by insertion when a checkpoint was written (none for a run without).
+PetscErrorCode SimReadFractureCells(MPI_Comm comm, const char *file, std::vector<PetscInt> &cells);
+// Joints inserted during the run (doc/fracture.md): the whole tetrahedra whose stress nears
+// the strength, with their neighbours (the same list on every rank; after SimRestore).
+PetscErrorCode SimFindCellsToSplit(Sim &sim, std::vector<PetscInt> &cells);
+// Builds the scene again with `cells` split too and carries the state over through a
+// checkpoint written to `file` (removed after); sim is then the new one, with its output
+// continuing the old one's files. Call after SimEndTS; then SimSetUpTS. Collective.
+PetscErrorCode SimInsertJoints(Sim &sim, const std::vector<PetscInt> &cells, const std::string &file, PetscReal t, PetscInt step, PetscReal dt);
 PetscErrorCode SimDestroy(Sim &sim);
 // Names of rigid body `id` (the library's numbering) in the scene.
 std::string RigidBodyName(const Sim &sim, PetscInt id);

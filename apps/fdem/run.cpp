@@ -350,6 +350,8 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscCall(PetscOptionsString("-fdem_output", "output folder (overrides output.dir of the scene; none: write nothing)", "", o.output, o.output, sizeof(o.output), nullptr));
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
   PetscCall(PetscOptionsReal("-fdem_balance_gain_limit", "stop when balance.csv shows the scene gained more than this fraction of its energy (an unstable step); 0: never", "", o.gain_limit, &o.gain_limit, nullptr));
+  PetscCall(PetscOptionsInt("-fdem_insert_every", "steps between the searches for tetrahedra that get joints during the run (materials' fracture.insert_at)", "", o.insert_every, &o.insert_every, nullptr));
+  PetscCheck(o.insert_every >= 1, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_every %" PetscInt_FMT ": give a number of steps >= 1", o.insert_every);
   PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
@@ -373,7 +375,9 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
     if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
   }
-  PetscCall(SimBuild(comm, sc, std::move(meshes), s));
+  std::vector<PetscInt> split_cells; // the tetrahedra a checkpoint's run had split by insertion
+  if (o.restart[0]) PetscCall(SimReadFractureCells(comm, o.restart, split_cells));
+  PetscCall(SimBuild(comm, sc, std::move(meshes), s, split_cells));
   PetscReal t = 0, dt_restart = 0;
   PetscInt  step = 0;
   if (o.restart[0]) {
@@ -404,6 +408,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (nzoned) zoned = "; " + zoned + (nzoned > 1 ? ": only those in their fracture_zone" : ": only those in its fracture_zone");
     PetscCall(PetscPrintf(comm, "fracture: %" PetscInt_FMT " joints (the fracturable bodies' tetrahedra have nodes of their own%s; %" PetscInt_FMT " nodes after the split); balance.csv: strain includes the joints' stored energy, fracture is the energy their damage dissipated and their handover to contact took out\n", s.njoints, zoned.c_str(), s.nnodes));
   }
+  if (s.inserting)
+    PetscCall(PetscPrintf(comm, "fracture: joints inserted during the run: every %" PetscInt_FMT " steps (-fdem_insert_every), the whole tetrahedra of bodies of a material with fracture.insert_at whose stress has reached that fraction of the strength get nodes of their own and joints, with their neighbours; %" PetscInt_FMT " split so far\n", o.insert_every, (PetscInt)split_cells.size()));
   const double wmax = std::max({st.omega_elements, st.omega_contact, st.omega_joints});
   char         wj[64] = "";
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
@@ -477,7 +483,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     }
   }
   // the joints' breaks, one row each as they happen, in fracture.csv
-  if (write && s.njoints > 0 && rank == 0) {
+  if (write && (s.njoints > 0 || s.inserting) && rank == 0) {
     const std::string file = dir + "/fracture.csv";
     const bool        head = !o.restart[0] || access(file.c_str(), F_OK) != 0;
     breaks                 = std::fopen(file.c_str(), o.restart[0] ? "a" : "w");
@@ -528,14 +534,46 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
   double   maxdP        = 0, scale = 0;
   PetscInt ncheckpoints = 0;
+  // with joints inserted during the run, segments also end every o.insert_every steps
+  const PetscInt ins = s.inserting ? o.insert_every : 0;
+  std::string    insert_file;
+  if (ins) {
+    char        tmpdir[PETSC_MAX_PATH_LEN];
+    long long   pid = (long long)getpid();
+    PetscCall(PetscGetTmp(comm, tmpdir, sizeof(tmpdir)));
+    PetscCallMPI(MPI_Bcast(&pid, 1, MPI_LONG_LONG, 0, comm));
+    insert_file = std::string(tmpdir) + "/fdem-insert-" + std::to_string(pid) + ".h5";
+  }
+  PetscInt ninserted = 0, ninsertions = 0;
   while (step < nsteps && t < end * (1 - 1e-12)) {
     TSConvergedReason reason;
-    PetscCall(TSSetMaxSteps(s.ts, std::min(nsteps, step + every)));
+    PetscInt          next = (step / every + 1) * every;
+    if (ins) next = std::min(next, (step / ins + 1) * ins);
+    PetscCall(TSSetMaxSteps(s.ts, std::min(nsteps, next)));
     PetscCall(TSSolve(s.ts, s.U));
     PetscCall(TSGetConvergedReason(s.ts, &reason));
     PetscCall(TSGetTime(s.ts, &t));
     PetscCall(TSGetStepNumber(s.ts, &step));
     PetscCheck(reason >= 0, comm, PETSC_ERR_NOT_CONVERGED, "%s: the time stepping failed at t = %g, step %" PetscInt_FMT " (%s); try a smaller time.dt or time.safety", sc.file.c_str(), (double)t, step, TSConvergedReasons[reason]);
+    const bool last = step >= nsteps || t >= end * (1 - 1e-12);
+    if (ins && !last && step % ins == 0) { // joints where the stress nears the strength: the scene built again with them
+      std::vector<PetscInt> cells;
+      PetscCall(SimRestore(s));
+      PetscCall(SimFindCellsToSplit(s, cells));
+      if (!cells.empty()) {
+        if (write) PetscCall(WriteJointBreaks(s, breaks, dt)); // (this model's; the next numbers its joints anew)
+        PetscCall(SimEndTS(s));
+        PetscCall(SimInsertJoints(s, cells, insert_file, t, step, dt));
+        if (SimNeedsMigration(s)) PetscCall(SimMigrate(s));
+        PetscCall(SimSetUpTS(s, scheme, t, step));
+        PetscCall(ConfigureTS(s, dt, end));
+        PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+        ninserted += (PetscInt)cells.size();
+        ++ninsertions;
+        if (o.progress) PetscCall(PetscPrintf(comm, "%st = %.5g s: joints inserted at %zu tetrahedra whose stress neared the strength (%" PetscInt_FMT " joints, %" PetscInt_FMT " nodes now)\n", prog.tty ? "\r" : "", (double)t, cells.size(), s.njoints, s.nnodes));
+      }
+    }
+    if (step % every != 0 && !last) continue; // (a segment that ended for the insertion only)
     b.t = t;
     PetscCall(SimBalance(s, b));
     for (int k = 0; k < 3; ++k) maxdP = std::max(maxdP, std::fabs(b.P[k] - first.P[k]));
@@ -564,7 +602,6 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
         std::fflush(loads);
       }
     }
-    const bool last = step >= nsteps || t >= end * (1 - 1e-12);
     if (write && (step % fevery == 0 || last)) {
       PetscCall(SimWriteOutput(s, fdir, step, t));
       frames.push_back(t);
@@ -605,6 +642,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
                         w1 - w0, wbuild - w0, run, run > 0 ? ran / run : 0.0, run > 0 ? ran * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? ran * (double)nbodies / (maxcpu * size) : 0.0));
   PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g, fracture %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
                         b.fracture, b.dissipated, maxdP));
+  if (s.inserting) PetscCall(PetscPrintf(comm, "fracture: joints inserted %" PetscInt_FMT " times in this run, at %" PetscInt_FMT " tetrahedra; %" PetscInt_FMT " joints at the end\n", ninsertions, ninserted, s.njoints));
   PetscCall(PrintTimeSummary(comm, run));
   PetscCall(PrintContactSummary(s, nbodies));
   PetscCall(WriteFragments(s, write ? fdir + "/fragments.csv" : std::string()));

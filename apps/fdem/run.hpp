@@ -18,6 +18,7 @@ struct RunOptions {
   PetscInt  kill_in_checkpoint          = 0; // test hook: SIGKILL between writing the k-th checkpoint and renaming it
   PetscBool check_only                 = PETSC_FALSE; // fdem check
   PetscReal gain_limit                 = 0.5; // -fdem_balance_gain_limit: stop when the scene gained this fraction of its energy
+  PetscInt  insert_every               = 10;  // -fdem_insert_every: steps between the searches for tetrahedra that get joints (insert_at)
 };
 
 // Reads the driver's options (-fdem_output, -fdem_progress) in a PetscOptions block (shown by -help).

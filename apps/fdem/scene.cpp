@@ -135,7 +135,7 @@ private:
 const std::vector<std::string> kTop       = {"title", "gravity", "time", "materials", "contact", "periodic", "bodies", "generate", "output", "checkpoint", "petsc"};
 const std::vector<std::string> kTime      = {"end", "dt", "safety", "scheme"};
 const std::vector<std::string> kMaterial  = {"density", "young", "poisson", "model", "damping", "fracture", "restitution", "friction", "rolling_friction", "contact_law", "kn", "kt", "gamma_n", "gamma_t"};
-const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty"};
+const std::vector<std::string> kFracture  = {"tensile_strength", "cohesion", "friction_angle", "G_I", "G_II", "joint_penalty", "insert_at"};
 const std::vector<std::string> kModels    = {"finite_strain", "munjiza_cst", "neo_hookean", "small_strain", "small_strain_linear"};
 const std::vector<std::string> kContact   = {"penalty", "friction", "normal_damping", "tangential_viscosity", "buffer"};
 const std::vector<std::string> kBody      = {"name", "model", "material", "shape", "resolution", "position", "rotation", "velocity", "angular_velocity", "fixed", "fix", "move", "velocity_field", "fracture_zone"};
@@ -185,6 +185,10 @@ Material ReadMaterial(const Reader &r, const std::string &name, const YAML::Node
     F.GI            = r.Positive(r.Required(f, "G_I", wf), wf + ".G_I");
     F.GII           = r.Positive(r.Required(f, "G_II", wf), wf + ".G_II");
     F.joint_penalty = r.Positive(r.Required(f, "joint_penalty", wf), wf + ".joint_penalty");
+    if (f["insert_at"]) {
+      F.insert_at = r.Positive(f["insert_at"], wf + ".insert_at");
+      if (!(F.insert_at <= 1)) r.Fail(f["insert_at"], wf + ".insert_at: the fraction of the strength at which a tetrahedron gets joints must lie in (0, 1], got " + f["insert_at"].Scalar());
+    }
   }
   if (n["model"]) {
     m.model = r.Choice(n["model"], w + ".model", kModels);
@@ -583,8 +587,10 @@ const char *SceneKeysHelp() {
          "  time: {end: s (required), dt: s | auto, safety: 0.5, scheme: cd|pv|chin|omf30|omf32|fr|pefrl|t112|t16|d112|pc3|pc4|pc5}\n"
          "        dt auto = safety * K_crit(scheme) / omega_max (elements and contact)\n"
          "  materials: {NAME: {density: kg/m^3, young: Pa, poisson: (-1, 0.5), model: finite_strain|neo_hookean|small_strain, damping: Pa s,\n"
-         "                     fracture: {tensile_strength: Pa, cohesion: Pa, friction_angle: degrees, G_I: J/m^2, G_II: J/m^2, joint_penalty: Pa}}}\n"
-         "             (fracture: makes the deformable bodies of the material fracturable: a joint on every interior face)\n"
+         "                     fracture: {tensile_strength: Pa, cohesion: Pa, friction_angle: degrees, G_I: J/m^2, G_II: J/m^2, joint_penalty: Pa, insert_at: (0, 1]}}}\n"
+         "             (fracture: makes the deformable bodies of the material fracturable: a joint on every interior face;\n"
+         "              with insert_at, the bodies start whole (or split in their fracture_zone) and a tetrahedron gets joints\n"
+         "              during the run when its stress reaches insert_at times the strength)\n"
          "             granular contact of spheres: restitution: (0, 1], friction: mu, rolling_friction: mu_r, contact_law: hertz|hooke, kn: N/m, kt: N/m, gamma_n: 1/s, gamma_t: 1/s\n"
          "  contact: {penalty: Pa (required), friction: mu, normal_damping: Pa s/m, tangential_viscosity: Pa s/m, buffer: m | auto}\n"
          "  periodic: {axes: [x, y], lo: [x,y,z], hi: [x,y,z]}  periodic boundaries along the axes listed, cell [lo, hi) (rigid bodies and spheres)\n"

@@ -26,6 +26,7 @@ using Where = std::string;
 struct Fracture {
   bool   present = false;
   double tensile_strength = 0, cohesion = 0, friction_angle = 0, GI = 0, GII = 0, joint_penalty = 0;
+  double insert_at = 0; // > 0: joints inserted during the run where the stress reaches this fraction of the strength
   Where  where;
 };
 

@@ -99,6 +99,27 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableSetMaterialFracture(FDEMDeformable dfm
    zones is split everywhere. At set-up, a zone on a body whose material is not fracturable,
    or that holds the centroid of none of the body's tetrahedra, is an error naming the body. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable dfm, const char *body, const PetscReal lo[3], const PetscReal hi[3]);
+/* Joints inserted during a run (doc/fracture.md, "Joints inserted during a run"). A
+   fracturable body given a stress ratio r in (0, 1] starts split only in its fracture zones
+   (none: nowhere) and at the tetrahedra given with AddFractureCells (ids of the input mesh).
+   FindCellsToSplit (collective, after set-up) lists, the same on every rank, its whole
+   tetrahedra whose Cauchy stress at U reaches r times the strength, max(sigma_1 / f_t,
+   Mohr-Coulomb's (sigma_1 - sigma_3) / 2 over c cos(phi) - (sigma_1 + sigma_3) / 2 sin(phi)),
+   with the whole tetrahedra that share a node with them; free *cells with PetscFree. The
+   caller then builds the model again with them added (the fdem driver does it between steps):
+   LoadNodeVector and LoadJointState read a checkpoint written with fewer tetrahedra split
+   into the larger split, each copy of a node taking the state of the node its tetrahedron
+   had and each new joint starting intact. ViewJointState saves the inserted tetrahedra
+   (`fracture_cells`); ReadFractureCells reads them back from a checkpoint (free with
+   PetscFree), for a restart to build the same split. ContinueOutput carries the frames
+   written by one model to its successor's WriteHDF5 (the same file). */
+PETSC_EXTERN PetscErrorCode FDEMDeformableSetFractureInsertion(FDEMDeformable dfm, const char *body, PetscReal ratio);
+PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureCells(FDEMDeformable dfm, PetscInt n, const PetscInt cells[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableGetFractureCells(FDEMDeformable dfm, PetscInt *n, const PetscInt *cells[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable dfm, Vec U, PetscInt *n, PetscInt *cells[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableReadFractureCells(MPI_Comm comm, PetscViewer viewer, PetscInt *n, PetscInt *cells[]);
+PETSC_EXTERN PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable dfm, PetscViewer viewer, Vec natural);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContinueOutput(FDEMDeformable to, FDEMDeformable from);
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at

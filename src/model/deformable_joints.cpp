@@ -54,10 +54,30 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
     zones[b] = &kv.second;
     held[b].assign(kv.second.size(), 0);
   }
-  if (!d->fracture_zones.empty()) {
+  // bodies with joints inserted during a run: split only in their zones (if any) and at the
+  // tetrahedra inserted so far
+  std::vector<char> inserting(mob.size(), 0);
+  for (const auto &kv : d->insertion) {
+    const auto &names = d->mesh.body_names;
+    const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
+    if (b == (int)names.size()) {
+      std::string have;
+      for (const auto &n : names) have += (have.empty() ? "" : ", ") + n;
+      throw fdem::kernels::InputError("FDEMDeformableSetFractureInsertion names body '" + kv.first + "', which is not in the mesh (its bodies: " + have + ")");
+    }
+    if (!split[b])
+      throw fdem::kernels::InputError("body '" + kv.first + "' has joints inserted during the run, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
+    inserting[b] = 1;
+  }
+  for (PetscInt t : d->inserted) {
+    if (t < 0 || t >= (PetscInt)d->mesh.tets.size()) throw fdem::kernels::InputError("FDEMDeformableAddFractureCells: tetrahedron " + std::to_string(t) + " is not in the mesh (" + std::to_string(d->mesh.tets.size()) + " tetrahedra)");
+    if (!inserting[d->mesh.body[t]]) throw fdem::kernels::InputError("FDEMDeformableAddFractureCells: tetrahedron " + std::to_string(t) + " is in body '" + d->mesh.body_names[d->mesh.body[t]] + "', which has no joints inserted during the run (FDEMDeformableSetFractureInsertion)");
+  }
+  if (!d->fracture_zones.empty() || !d->insertion.empty()) {
     in_zone.assign(d->mesh.tets.size(), 1);
     for (std::size_t t = 0; t < d->mesh.tets.size(); ++t) {
       const int b = d->mesh.body[t];
+      if (inserting[b] && !zones[b]) in_zone[t] = 0;
       if (!zones[b]) continue;
       fdem::kernels::Vec3 c;
       for (int n : d->mesh.tets[t]) c = c + 0.25 * d->mesh.nodes[n];
@@ -78,6 +98,13 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
         }
   }
   if (!any) return;
+  if (!d->insertion.empty()) { // kept to find the split of a checkpoint written before some insertion
+    d->input_mesh = d->mesh;
+    d->split_body = split;
+    d->box_split  = in_zone;
+    for (PetscInt t : d->inserted) in_zone[t] = 1;
+    d->tet_split = in_zone;
+  }
   fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
@@ -97,16 +124,38 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   // area) between a node pair of the two sides, half of it on each of its edge's nodes;
   // a node of mass m tied by springs of total stiffness K to its twins has
   // omega^2 <= 2 K / m (the row sum of its stiffness, Gershgorin).
-  std::vector<double> K(s.mesh.nodes.size(), 0.0), m(s.mesh.nodes.size(), 0.0);
-  for (std::size_t t = 0; t < s.mesh.tets.size(); ++t) {
-    const double q = d->materials[mob[s.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(s.mesh, (int)t)) / 4;
-    for (int n : s.mesh.tets[t]) m[n] += q;
+  // With joints inserted during the run, the estimate is that of the bodies split wherever
+  // joints may come (the time step is chosen at the start).
+  fdem::kernels::SplitMesh full;
+  if (!d->insertion.empty()) {
+    std::vector<char> all = in_zone;
+    for (std::size_t t = 0; t < all.size(); ++t) all[t] = all[t] || inserting[d->mesh.body[t]];
+    full = fdem::kernels::SplitForJoints(d->mesh, split, all);
+    for (const auto &j : full.joints) { // a joint that may come must have a valid law (checked now, not during the run)
+      const auto  &x = full.mesh.nodes;
+      const double h = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
+      const int    b = full.mesh.body[j.tet_a];
+      try {
+        (void)fdem::kernels::MakeJointLaw(d->fracture.at(d->materials[mob[b]].name), h);
+      } catch (const fdem::kernels::InputError &e) {
+        throw fdem::kernels::InputError("body '" + full.mesh.body_names[b] + "', the joint that insertion would make between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
+      }
+    }
   }
-  for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const auto  &J = s.joints[j];
-    const auto  &x = s.mesh.nodes;
+  const fdem::kernels::SplitMesh &f = d->insertion.empty() ? s : full;
+  std::vector<double> K(f.mesh.nodes.size(), 0.0), m(f.mesh.nodes.size(), 0.0);
+  for (std::size_t t = 0; t < f.mesh.tets.size(); ++t) {
+    const double q = d->materials[mob[f.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(f.mesh, (int)t)) / 4;
+    for (int n : f.mesh.tets[t]) m[n] += q;
+  }
+  for (std::size_t j = 0; j < f.joints.size(); ++j) {
+    const auto  &J = f.joints[j];
+    const auto  &x = f.mesh.nodes;
     const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]], x[J.a[2]] - x[J.a[0]]));
-    const double k = d->laws_input[j].penalty * (A / 3) / d->laws_input[j].h; // per point; a node gets two halves
+    // the law's penalty and size (MakeJointLaw: the mean edge of the triangle)
+    const double h = (norm(x[J.a[1]] - x[J.a[0]]) + norm(x[J.a[2]] - x[J.a[1]]) + norm(x[J.a[0]] - x[J.a[2]])) / 3;
+    const double p = d->fracture.at(d->materials[mob[f.mesh.body[J.tet_a]]].name).penalty;
+    const double k = p * (A / 3) / h; // per point; a node gets two halves
     for (int i = 0; i < 3; ++i) {
       K[J.a[i]] += k;
       K[J.b[i]] += k;
@@ -124,7 +173,7 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
 
 PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscFunctionBegin;
-  PetscInt sizes[3] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0, d->rank == 0 ? (PetscInt)!d->fracture_zones.empty() : 0};
+  PetscInt sizes[3] = {d->rank == 0 ? (PetscInt)d->joints_input.size() : 0, d->rank == 0 ? (PetscInt)d->split_parent.size() : 0, d->rank == 0 ? (PetscInt)(!d->fracture_zones.empty() || !d->insertion.empty()) : 0};
   PetscCallMPI(MPI_Bcast(sizes, 3, MPIU_INT, 0, d->comm));
   const PetscInt nj = sizes[0];
   d->zoned          = sizes[2] != 0;
@@ -481,7 +530,16 @@ static PetscErrorCode JointFieldLayout(FDEMDeformable d, const char *name, Petsc
 
 // Writes (load = false) or reads the field `name`: this rank's values `mine_values` (per
 // per joint) to or from the viewer; on reading, checks the saved size.
-static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load) {
+// With `origin` (loading a state saved with fewer joints, rank 0: nold of them), each joint
+// takes its origin's values, its points those of the origin's points on the same edges (per is
+// 1 for a value per joint, else a multiple of 3 for per / 3 values per point), and a new joint
+// `fresh`.
+struct JointRemap {
+  const std::vector<JointOrigin> *origin = nullptr;
+  PetscInt                        nold   = 0;
+  PetscReal                       fresh  = 0;
+};
+static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load, const JointRemap &remap = {}) {
   Vec          nat, mine;
   VecScatter   sc;
   PetscScalar *a;
@@ -497,7 +555,23 @@ static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const cha
     PetscCall(VecView(nat, viewer));
   } else {
     PetscInt N;
-    PetscCall(VecLoad(nat, viewer));
+    if (remap.origin) {
+      const auto &from = *remap.origin;
+      PetscCall(LoadMapped(d, viewer, nat, remap.nold, per, [&](const PetscScalar *o, PetscScalar *n) {
+        const PetscInt w = per == 1 ? 1 : per / 3; // values per point
+        for (std::size_t j = 0; j < from.size(); ++j) {
+          const JointOrigin &f = from[j];
+          if (f.joint < 0) {
+            for (PetscInt i = 0; i < per; ++i) n[per * j + i] = remap.fresh;
+          } else if (per == 1) {
+            n[j] = o[f.joint];
+          } else {
+            for (int q = 0; q < 3; ++q)
+              for (PetscInt i = 0; i < w; ++i) n[per * j + w * q + i] = o[per * f.joint + w * f.point[q] + i];
+          }
+        }
+      }));
+    } else PetscCall(VecLoad(nat, viewer));
     PetscCall(VecGetSize(nat, &N));
     PetscCheck(N == per * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved %s has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x %" PetscInt_FMT " (another scene?)", name, N, d->njoints_global, per);
     PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
@@ -551,6 +625,7 @@ static PetscErrorCode OnsetField(FDEMDeformable d, PetscViewer viewer, bool load
 PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
+  PetscCall(ViewInsertedCells(d, viewer));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   std::vector<PetscReal> D(3 * d->jstate.size());
   for (std::size_t j = 0; j < d->jstate.size(); ++j)
@@ -572,15 +647,39 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
+  // a state saved with fewer tetrahedra split (joints inserted since): the joints it had keep
+  // their state, the others start intact
+  std::vector<PetscInt>    old;
+  std::vector<JointOrigin> origin;
+  bool                     differs;
+  PetscInt                 nold = 0;
+  PetscCall(SavedSplitDiffers(d, viewer, old, &differs));
+  if (differs) {
+    PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
+      if (d->rank == 0) JointOrigins(d, old, origin, &nold);
+      return 0;
+    }));
+    PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
+  }
+  if (differs && nold == 0) { // no joint was saved: all start intact, nothing dissipated
+    for (std::size_t j = 0; j < d->jstate.size(); ++j) {
+      for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};
+      d->jdiss[j] = 0;
+      d->jgone[j] = 0;
+    }
+    PetscCall(OnsetField(d, viewer, true));
+    PetscFunctionReturn(0);
+  }
+  const JointRemap       rm0{differs ? &origin : nullptr, nold, 0.0}, rm1{differs ? &origin : nullptr, nold, -1.0};
   std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0);
-  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true));
+  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true, rm0));
   // A checkpoint written before the shear damage was kept has none: the joints' shear then
   // restarts from zero, and their first evaluation raises it to the law's secant, the same
   // tractions as the law without the secant at the positions saved.
   PetscBool hdf5, has = PETSC_TRUE;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_shear_damage", &has));
-  if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true));
+  if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true, rm0));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
   // The points' energies at their last evaluation, for the release of damage at the step's
   // middle. Without them (an earlier fdem's checkpoint) each point takes its first step's
@@ -588,9 +687,9 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   std::vector<PetscReal> E(6 * d->jstate.size(), -1.0);
   has = PETSC_TRUE;
   if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_last_energy", &has));
-  if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true));
+  if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true, rm1));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_last_energy (written by an earlier fdem); each joint point takes its first step's release of energy at the step's end\n"));
-  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true));
+  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true, rm0));
   PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {

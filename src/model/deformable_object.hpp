@@ -27,6 +27,7 @@
 #include <fdem/kernels/joint_mesh.hpp>
 #include <fdem/kernels/tetmesh.hpp>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -81,6 +82,13 @@ struct _n_FDEMDeformable {
   // fracture joints (deformable_joints.cpp)
   std::map<std::string, fdem::kernels::JointMaterial> fracture; // by material name: its bodies are fracturable
   std::map<std::string, std::vector<std::array<double, 6>>> fracture_zones; // by body name: boxes (lo, hi) that limit its split
+  // joints inserted during a run (deformable_insertion.cpp)
+  std::map<std::string, PetscReal>        insertion;      // by body name: the stress ratio at which its tetrahedra get joints
+  std::vector<PetscInt>                   inserted;       // sorted input tetrahedra split by insertion (all ranks)
+  std::vector<PetscReal>                  body_insertion; // per body: its ratio, 0 without insertion (all ranks, after set-up)
+  fdem::kernels::TetMesh                  input_mesh;     // rank 0, with insertion: the mesh before the split
+  std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
+  std::vector<char>                       tet_split;      // rank 0, with insertion: the tetrahedra split now
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
   std::vector<char>                       split_tet;      // rank 0, set-up: 1 for a tetrahedron with nodes of its own (partition weights)
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
@@ -142,6 +150,17 @@ PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *
 // SF that brings triangle b's nodes to it.
 void SplitFracturable(FDEMDeformable d, const std::vector<int> &material_of_body);
 PetscErrorCode SetUpJoints(FDEMDeformable d);
+// Joints inserted during a run (deformable_insertion.cpp).
+struct JointOrigin {
+  PetscInt joint    = -1;          // the joint it comes from, -1: a new joint
+  int      point[3] = {0, 1, 2}; // that joint's point on the same edge, per point
+};
+PetscErrorCode ReadInsertedCells(MPI_Comm comm, PetscViewer viewer, std::vector<PetscInt> &cells, bool *has);
+PetscErrorCode ViewInsertedCells(FDEMDeformable d, PetscViewer viewer);
+PetscErrorCode SavedSplitDiffers(FDEMDeformable d, PetscViewer viewer, std::vector<PetscInt> &old, bool *differs);
+void           NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold);
+void           JointOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<JointOrigin> &from, PetscInt *nold);
+PetscErrorCode LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill);
 // Adds the joint forces at local positions xl into the local forces fl and records the
 // joints that break (time t, jbreaks); at the first evaluation of a TS, warns when its time step is near the joints' limit (collective).
 PetscErrorCode AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl);

@@ -1,0 +1,325 @@
+// Deformable bodies, joints inserted during a run (doc/fracture.md, "Joints inserted
+// during a run"): a fracturable body with an insertion ratio starts split only in its
+// fracture zones; the tetrahedra whose stress nears the strength are found between steps
+// (FDEMDeformableFindCellsToSplit) and the caller builds the model again with them split
+// (FDEMDeformableAddFractureCells), loading the state saved before (a checkpoint) into the
+// larger split: each copy of a node takes the state of the node its tetrahedron had, each
+// joint that existed the state it had, and a new joint starts intact.
+#include "../util/guard.hpp"
+#include "deformable_impl.hpp"
+#include "deformable_object.hpp"
+
+#include <fdem/kernels/error.hpp>
+#include <fdem/kernels/joint_mesh.hpp>
+#include <petscviewerhdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+using namespace fdem::model::deformable;
+
+namespace {
+
+// The split of the input mesh with the zones' tetrahedra and `cells` split (rank 0).
+fdem::kernels::SplitMesh SplitWith(FDEMDeformable d, const std::vector<PetscInt> &cells) {
+  std::vector<char> flags = d->box_split;
+  for (PetscInt t : cells) flags[t] = 1;
+  return fdem::kernels::SplitForJoints(d->input_mesh, d->split_body, flags);
+}
+
+// The largest principal stress and the Mohr-Coulomb ratio of a Cauchy stress (xx yy zz xy yz
+// xz, tension positive) against a material: max(sigma_1 / f_t, ((s1 - s3) / 2) / (c cos phi -
+// (s1 + s3) / 2 sin phi)), the second infinite where the tension leaves no shear strength.
+double StrengthRatio(const PetscReal *T, const fdem::kernels::JointMaterial &m) {
+  // eigenvalues of the symmetric matrix (trigonometric form)
+  const double xx = T[0], yy = T[1], zz = T[2], xy = T[3], yz = T[4], xz = T[5];
+  const double p1 = xy * xy + yz * yz + xz * xz, q = (xx + yy + zz) / 3;
+  double       s1, s3;
+  if (p1 <= 1e-30 * (xx * xx + yy * yy + zz * zz)) {
+    s1 = std::max({xx, yy, zz});
+    s3 = std::min({xx, yy, zz});
+  } else {
+    const double p2 = (xx - q) * (xx - q) + (yy - q) * (yy - q) + (zz - q) * (zz - q) + 2 * p1, p = std::sqrt(p2 / 6);
+    const double b00 = (xx - q) / p, b11 = (yy - q) / p, b22 = (zz - q) / p, b01 = xy / p, b12 = yz / p, b02 = xz / p;
+    const double r   = 0.5 * (b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02));
+    const double phi = r <= -1 ? M_PI / 3 : r >= 1 ? 0 : std::acos(r) / 3;
+    s1               = q + 2 * p * std::cos(phi);
+    s3               = q + 2 * p * std::cos(phi + 2 * M_PI / 3);
+  }
+  const double ph = m.friction_angle * M_PI / 180, den = m.cohesion * std::cos(ph) - 0.5 * (s1 + s3) * std::sin(ph);
+  const double shear = den > 0 ? 0.5 * (s1 - s3) / den : HUGE_VAL;
+  return std::max(s1 / m.tensile_strength, shear);
+}
+
+} // namespace
+
+// The inserted tetrahedra saved in a checkpoint ("fracture_cells": their count, then their
+// ids); *has false when it has none (a run without insertion, or an earlier fdem's).
+PetscErrorCode fdem::model::deformable::ReadInsertedCells(MPI_Comm comm, PetscViewer viewer, std::vector<PetscInt> &cells, bool *has) {
+  PetscBool hdf5, h = PETSC_FALSE;
+  Vec       v, v0;
+  PetscFunctionBegin;
+  cells.clear();
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
+  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/fracture_cells", &h));
+  *has = h;
+  if (!h) PetscFunctionReturn(0);
+  VecScatter sc;
+  PetscCall(VecCreate(comm, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "fracture_cells"));
+  PetscCall(VecLoad(v, viewer));
+  PetscCall(VecScatterCreateToAll(v, &sc, &v0));
+  PetscCall(VecScatterBegin(sc, v, v0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, v, v0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt           N;
+  const PetscScalar *a;
+  PetscCall(VecGetSize(v0, &N));
+  PetscCall(VecGetArrayRead(v0, &a));
+  const double n  = N > 0 ? PetscRealPart(a[0]) : -1;
+  bool         ok = N > 0 && n == N - 1;
+  for (PetscInt i = 1; ok && i < N; ++i) {
+    const double c = PetscRealPart(a[i]);
+    ok             = c >= 0 && c == std::floor(c) && c < 9e15 && (i == 1 || c > PetscRealPart(a[i - 1]));
+    if (ok) cells.push_back((PetscInt)c);
+  }
+  PetscCall(VecRestoreArrayRead(v0, &a));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(VecDestroy(&v0));
+  PetscCall(VecDestroy(&v));
+  PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint's fracture_cells is not a count followed by that many increasing tetrahedron ids");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::deformable::ViewInsertedCells(FDEMDeformable d, PetscViewer viewer) {
+  Vec v;
+  PetscFunctionBegin;
+  if (d->insertion.empty()) PetscFunctionReturn(0);
+  const PetscInt n = (PetscInt)d->inserted.size();
+  PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? n + 1 : 0, n + 1, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "fracture_cells"));
+  if (d->rank == 0) {
+    PetscScalar *a;
+    PetscCall(VecGetArray(v, &a));
+    a[0] = (PetscScalar)n;
+    for (PetscInt i = 0; i < n; ++i) a[i + 1] = (PetscScalar)d->inserted[i];
+    PetscCall(VecRestoreArray(v, &a));
+  }
+  PetscCall(VecView(v, viewer));
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+// Whether the saved state was written with another split than this model's (the checkpoint's
+// inserted tetrahedra in `old`); an error when it split a tetrahedron this model keeps whole.
+PetscErrorCode fdem::model::deformable::SavedSplitDiffers(FDEMDeformable d, PetscViewer viewer, std::vector<PetscInt> &old, bool *differs) {
+  bool has;
+  PetscFunctionBegin;
+  PetscCall(ReadInsertedCells(d->comm, viewer, old, &has));
+  *differs = has && old != d->inserted;
+  if (!has && !d->inserted.empty()) *differs = true; // saved before any insertion, or by an earlier fdem
+  if (*differs) {
+    PetscCheck(!d->insertion.empty(), d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint has joints inserted during its run (fracture_cells), but this model inserts none: load it into a model with the same insertion bodies");
+    PetscCheck(std::includes(d->inserted.begin(), d->inserted.end(), old.begin(), old.end()), d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint split tetrahedra that this model keeps whole (fracture_cells): give them to FDEMDeformableAddFractureCells");
+  }
+  PetscFunctionReturn(0);
+}
+
+// rank 0: the node of the split with `old` inserted that each node of this model's split comes from.
+void fdem::model::deformable::NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold) {
+  const fdem::kernels::SplitMesh a = SplitWith(d, old), b = SplitWith(d, d->inserted);
+  from.assign(b.mesh.nodes.size(), -1);
+  for (std::size_t t = 0; t < b.mesh.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) from[b.mesh.tets[t][k]] = a.mesh.tets[t][k];
+  *nold = (PetscInt)a.mesh.nodes.size();
+}
+
+// rank 0: the joint of the split with `old` inserted that each joint of this model's split
+// comes from (-1: new), and for each of its points (the midpoint of edge (q, q+1) of triangle
+// a) the point of that joint on the same edge (triangle a may be on the other side now).
+void fdem::model::deformable::JointOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<JointOrigin> &from, PetscInt *nold) {
+  const fdem::kernels::SplitMesh a = SplitWith(d, old), b = SplitWith(d, d->inserted);
+  auto key = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j) {
+    std::array<int, 3> k = {s.parent[j.a[0]], s.parent[j.a[1]], s.parent[j.a[2]]};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  auto edge = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j, int q) {
+    const int u = s.parent[j.a[q]], w = s.parent[j.a[(q + 1) % 3]];
+    return std::make_pair(std::min(u, w), std::max(u, w));
+  };
+  from.assign(b.joints.size(), JointOrigin{});
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < b.joints.size(); ++j) { // both in the order of their sorted face keys
+    const auto kb = key(b, b.joints[j]);
+    while (i < a.joints.size() && key(a, a.joints[i]) < kb) ++i;
+    if (i == a.joints.size() || key(a, a.joints[i]) != kb) continue;
+    from[j].joint = (PetscInt)i;
+    for (int q = 0; q < 3; ++q)
+      for (int r = 0; r < 3; ++r)
+        if (edge(a, a.joints[i], r) == edge(b, b.joints[j], q)) from[j].point[q] = r;
+  }
+  *nold = (PetscInt)a.joints.size();
+}
+
+// Loads the saved vector named as `nat` (this model's natural layout) written with a split of
+// nold units of `per` entries: rank 0 gets the saved vector and fills each unit of the new one
+// (fill(saved, new)), which is then spread over nat's layout. Collective.
+PetscErrorCode fdem::model::deformable::LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill) {
+  Vec         old, old0, new0;
+  VecScatter  so, sn;
+  const char *name;
+  PetscInt    N;
+  PetscFunctionBegin;
+  PetscCall(PetscObjectGetName((PetscObject)nat, &name));
+  PetscCall(VecCreate(d->comm, &old));
+  PetscCall(PetscObjectSetName((PetscObject)old, name));
+  PetscCall(VecLoad(old, viewer));
+  PetscCall(VecGetSize(old, &N));
+  PetscCheck(N == per * nold, d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint's %s has %" PetscInt_FMT " entries; the split it was written with has %" PetscInt_FMT " x %" PetscInt_FMT " (another scene?)", name, N, nold, per);
+  PetscCall(VecScatterCreateToZero(old, &so, &old0));
+  PetscCall(VecScatterBegin(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterCreateToZero(nat, &sn, &new0));
+  if (d->rank == 0) {
+    const PetscScalar *o;
+    PetscScalar       *n;
+    PetscCall(VecGetArrayRead(old0, &o));
+    PetscCall(VecGetArray(new0, &n));
+    fill(o, n);
+    PetscCall(VecRestoreArray(new0, &n));
+    PetscCall(VecRestoreArrayRead(old0, &o));
+  }
+  PetscCall(VecScatterBegin(sn, new0, nat, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(sn, new0, nat, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterDestroy(&so));
+  PetscCall(VecScatterDestroy(&sn));
+  PetscCall(VecDestroy(&old0));
+  PetscCall(VecDestroy(&new0));
+  PetscCall(VecDestroy(&old));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableSetFractureInsertion(FDEMDeformable d, const char *body, PetscReal ratio) {
+  PetscFunctionBegin;
+  PetscCheck(body && body[0], d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableSetFractureInsertion: the body needs a name");
+  PetscCall(CheckNotSetUp(d, "FDEMDeformableSetFractureInsertion"));
+  PetscCheck(ratio > 0 && ratio <= 1, d->comm, PETSC_ERR_ARG_OUTOFRANGE, "FDEMDeformableSetFractureInsertion: body '%s': the stress ratio %g must be in (0, 1]", body, (double)ratio);
+  d->insertion[body] = ratio;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableAddFractureCells(FDEMDeformable d, PetscInt n, const PetscInt cells[]) {
+  PetscFunctionBegin;
+  PetscCall(CheckNotSetUp(d, "FDEMDeformableAddFractureCells"));
+  PetscCheck(n >= 0 && (n == 0 || cells), d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableAddFractureCells: give n >= 0 tetrahedron ids");
+  d->inserted.insert(d->inserted.end(), cells, cells + n);
+  std::sort(d->inserted.begin(), d->inserted.end());
+  d->inserted.erase(std::unique(d->inserted.begin(), d->inserted.end()), d->inserted.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableGetFractureCells(FDEMDeformable d, PetscInt *n, const PetscInt *cells[]) {
+  PetscFunctionBegin;
+  *n = (PetscInt)d->inserted.size();
+  if (cells) *cells = d->inserted.data();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableReadFractureCells(MPI_Comm comm, PetscViewer viewer, PetscInt *n, PetscInt *cells[]) {
+  std::vector<PetscInt> c;
+  bool                  has;
+  PetscFunctionBegin;
+  PetscCall(ReadInsertedCells(comm, viewer, c, &has));
+  *n = (PetscInt)c.size();
+  PetscCall(PetscMalloc1(c.size() + 1, cells));
+  std::copy(c.begin(), c.end(), *cells);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable d, PetscViewer viewer, Vec nat) {
+  std::vector<PetscInt> old;
+  bool                  differs;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableLoadNodeVector"));
+  PetscCall(SavedSplitDiffers(d, viewer, old, &differs));
+  if (!differs) {
+    PetscCall(VecLoad(nat, viewer));
+    PetscFunctionReturn(0);
+  }
+  std::vector<PetscInt> from;
+  PetscInt              nold = 0;
+  if (d->rank == 0) NodeOrigins(d, old, from, &nold);
+  PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
+  PetscCall(LoadMapped(d, viewer, nat, nold, 3, [&](const PetscScalar *o, PetscScalar *n) {
+    for (std::size_t i = 0; i < from.size(); ++i)
+      for (int c = 0; c < 3; ++c) n[3 * i + c] = o[3 * from[i] + c];
+  }));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt *n, PetscInt *cells[]) {
+  Vec                S;
+  const PetscScalar *sa;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableFindCellsToSplit"));
+  *n = 0;
+  if (d->insertion.empty()) {
+    PetscCall(PetscMalloc1(1, cells));
+    PetscFunctionReturn(0);
+  }
+  if (d->body_insertion.empty()) {
+    d->body_insertion.assign(d->body_names.size(), 0);
+    for (std::size_t b = 0; b < d->body_names.size(); ++b) {
+      const auto it = d->insertion.find(d->body_names[b]);
+      if (it != d->insertion.end()) d->body_insertion[b] = it->second;
+    }
+  }
+  // this rank's cells of insertion bodies at or above their ratio (split ones too: rank 0 knows which are)
+  PetscCall(FDEMDeformableComputeCellStress(d, U, &S));
+  PetscCall(VecGetArrayRead(S, &sa));
+  std::vector<PetscInt> mine;
+  for (std::size_t e = 0; e < d->ed.size(); ++e) {
+    const int       b = d->ed.body[e];
+    const PetscReal r = d->body_insertion[b];
+    if (r <= 0) continue;
+    const auto &m = d->fracture.at(d->materials[d->material_of_body[b]].name);
+    if (StrengthRatio(&sa[6 * e], m) >= r) mine.push_back(d->cell_gid[e]);
+  }
+  PetscCall(VecRestoreArrayRead(S, &sa));
+  PetscCall(VecDestroy(&S));
+  // to rank 0, which drops the split ones and adds their neighbours (the cells sharing a node
+  // with them) in the same bodies, so that a crack has room to run before the next insertion
+  const PetscMPIInt      cnt = (PetscMPIInt)mine.size();
+  std::vector<PetscMPIInt> cnts(d->size), off(d->size + 1, 0);
+  PetscCallMPI(MPI_Gather(&cnt, 1, MPI_INT, cnts.data(), 1, MPI_INT, 0, d->comm));
+  for (int r = 0; r < d->size; ++r) off[r + 1] = off[r] + (d->rank == 0 ? cnts[r] : 0);
+  std::vector<PetscInt> all(off[d->size]), add;
+  PetscCallMPI(MPI_Gatherv(mine.data(), cnt, MPIU_INT, all.data(), cnts.data(), off.data(), MPIU_INT, 0, d->comm));
+  if (d->rank == 0) {
+    const auto      &M = d->input_mesh;
+    std::vector<char> hot(M.nodes.size(), 0), take(M.tets.size(), 0);
+    for (PetscInt t : all)
+      if (!d->tet_split[t])
+        for (int k : M.tets[t]) hot[k] = 1;
+    for (std::size_t t = 0; t < M.tets.size(); ++t)
+      if (!d->tet_split[t] && d->body_insertion[M.body[t]] > 0)
+        for (int k : M.tets[t]) take[t] = take[t] || hot[k];
+    for (std::size_t t = 0; t < M.tets.size(); ++t)
+      if (take[t]) add.push_back((PetscInt)t);
+  }
+  PetscInt na = (PetscInt)add.size();
+  PetscCallMPI(MPI_Bcast(&na, 1, MPIU_INT, 0, d->comm));
+  add.resize(na);
+  PetscCallMPI(MPI_Bcast(add.data(), (PetscMPIInt)na, MPIU_INT, 0, d->comm));
+  *n = na;
+  PetscCall(PetscMalloc1(na + 1, cells));
+  std::copy(add.begin(), add.end(), *cells);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableContinueOutput(FDEMDeformable to, FDEMDeformable from) {
+  PetscFunctionBegin;
+  to->outputs = from->outputs;
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,282 @@
+// Joints inserted during a run (doc/fracture.md, "Joints inserted during a run"), on any
+// number of ranks. A box of 6 x 2 x 2 cubes of 0.1 m (144 tetrahedra), body "rock" of a
+// fracturable material with an insertion ratio of 0.5 (f_t = 1 MPa, E = 1 GPa, nu = 0).
+//  1. Model A splits the tetrahedra with centroid x < 0.2 (FDEMDeformableAddFractureCells),
+//     model B those with x < 0.4. A's state (every node its own position and velocity, every
+//     joint point its own damage, shear damage and last energies, every joint its own
+//     dissipated energy) is written to an HDF5 file as the driver's checkpoint does and loaded
+//     into B: each node of B (a tetrahedron's corner) has the state of the node that corner
+//     had in A, each joint of B that A had the state of that joint's point on the same edge,
+//     and each new joint is intact (damage 0, last energies -1, nothing dissipated). The
+//     expected values come from the input mesh split both ways by the kernel
+//     (SplitForJoints), so they check that the models' node and joint ids are the split's.
+//  2. FDEMDeformableGetFractureCells gives B's cells; FDEMDeformableReadFractureCells gives
+//     A's from the file.
+//  3. FindCellsToSplit on A: at the reference state, none; stretched along x so that
+//     sigma_xx = 0.4 f_t, none; at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron.
+//  4. Errors: loading B's state into A (a checkpoint that split tetrahedra A keeps whole),
+//     a ratio of 1.5, a cell of a body without insertion, a cell outside the mesh.
+#include "common.hpp"
+#include "../../src/model/deformable_object.hpp"
+
+#include <fdem/kernels/joint_mesh.hpp>
+#include <petscviewerhdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace {
+using fdem::kernels::Vec3;
+
+fdem::kernels::TetMesh Box() {
+  fdem::kernels::TetMesh M = fdem::kernels::MakeBoxMesh(Vec3(0, 0, 0), Vec3(0.6, 0.2, 0.2), 6, 2, 2);
+  M.body_names             = {"rock", "steel"};
+  M.body.resize(M.tets.size());
+  for (size_t e = 0; e < M.tets.size(); ++e) { // the last column of cubes is a body without fracture
+    Vec3 c(0, 0, 0);
+    for (int a = 0; a < 4; ++a) c = c + 0.25 * M.nodes[M.tets[e][a]];
+    M.body[e] = c.x > 0.5 ? 1 : 0;
+  }
+  return M;
+}
+
+// The tetrahedra of the rock with centroid x < xmax.
+std::vector<PetscInt> CellsBelow(const fdem::kernels::TetMesh &M, double xmax) {
+  std::vector<PetscInt> c;
+  for (size_t e = 0; e < M.tets.size(); ++e) {
+    Vec3 s(0, 0, 0);
+    for (int a = 0; a < 4; ++a) s = s + 0.25 * M.nodes[M.tets[e][a]];
+    if (s.x < xmax && M.body[e] == 0) c.push_back((PetscInt)e);
+  }
+  return c;
+}
+
+// (On an error *out holds the model made so far, for the caller to destroy.)
+PetscErrorCode Make(MPI_Comm comm, const std::vector<PetscInt> &cells, PetscReal ratio, FDEMDeformable *out) {
+  FDEMDeformable d;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableCreate(comm, &d));
+  *out = d;
+  PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.0, 2000, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableAddMaterial(d, "steel", 2e11, 0.3, 7800, 0, FDEM_MATERIAL_MUNJIZA_CST));
+  PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e6, 3e6, 30, 50, 200, 1e10));
+  PetscCall(SetKernelMesh(d, Box()));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "rock", "rock"));
+  PetscCall(FDEMDeformableSetBodyMaterial(d, "steel", "steel"));
+  PetscCall(FDEMDeformableSetFractureInsertion(d, "rock", ratio));
+  PetscCall(FDEMDeformableAddFractureCells(d, (PetscInt)cells.size(), cells.data()));
+  PetscCall(FDEMDeformableSetUp(d));
+  PetscFunctionReturn(0);
+}
+
+// The split the library makes of the box with `cells` split.
+fdem::kernels::SplitMesh Split(const std::vector<PetscInt> &cells) {
+  const fdem::kernels::TetMesh M = Box();
+  std::vector<char>            flags(M.tets.size(), 0);
+  for (PetscInt t : cells) flags[t] = 1;
+  return fdem::kernels::SplitForJoints(M, {1, 0}, flags);
+}
+
+// The state each node and joint point gets in A, from its id.
+double NodeValue(PetscInt id, int c, int which) { return 1e-3 * (id + 1) + 1e-5 * c + 0.5 * which; }
+double PointDamage(PetscInt j, int q) { return 0.01 + 0.001 * j + 0.0001 * q; }
+
+// A's node state, by id, into the natural vectors mesh_x and mesh_v, and the joints' state (ids
+// in the split's joint order).
+PetscErrorCode Save(FDEMDeformable d, const char *file) {
+  PetscInt        n;
+  const PetscInt *ids;
+  PetscViewer     v;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetNodeIds(d, &n, &ids));
+  for (int w = 0; w < 2; ++w) {
+    Vec nat;
+    PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, 3 * d->nnodes_global, &nat));
+    PetscCall(PetscObjectSetName((PetscObject)nat, w ? "mesh_v" : "mesh_x"));
+    for (PetscInt i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) PetscCall(VecSetValue(nat, 3 * ids[i] + c, NodeValue(ids[i], c, w), INSERT_VALUES));
+    PetscCall(VecAssemblyBegin(nat));
+    PetscCall(VecAssemblyEnd(nat));
+    if (w == 0) PetscCall(PetscViewerHDF5Open(d->comm, file, FILE_MODE_WRITE, &v));
+    PetscCall(VecView(nat, v));
+    PetscCall(VecDestroy(&nat));
+  }
+  for (size_t j = 0; j < d->jstate.size(); ++j) {
+    for (int q = 0; q < 3; ++q) {
+      d->jstate[j][q].SetDamage(PointDamage(d->jgid[j], q));
+      d->jstate[j][q].shear_damage = (float)(2 * PointDamage(d->jgid[j], q));
+      d->jstate[j][q].last_tension = (float)(3 * PointDamage(d->jgid[j], q));
+      d->jstate[j][q].last_shear   = (float)(4 * PointDamage(d->jgid[j], q));
+    }
+    d->jdiss[j] = 1e-3 * d->jgid[j];
+  }
+  PetscCall(FDEMDeformableViewJointState(d, v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+// Sets A's stored positions to X stretched by (1 + e) along x.
+PetscErrorCode Stretch(FDEMDeformable d, double e) {
+  Vec x, X;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetPositions(d, &x));
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscCall(VecCopy(X, x));
+  PetscScalar *a;
+  PetscInt     n;
+  PetscCall(VecGetLocalSize(x, &n));
+  PetscCall(VecGetArray(x, &a));
+  for (PetscInt i = 0; i < n; i += 3) a[i] *= 1 + e;
+  PetscCall(VecRestoreArray(x, &a));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
+int main(int argc, char **argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  PetscCall(FDEMInitializePackage());
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  const fdem::kernels::TetMesh M = Box();
+  const std::vector<PetscInt>  cellsA = CellsBelow(M, 0.2), cellsB = CellsBelow(M, 0.4);
+  const fdem::kernels::SplitMesh sa = Split(cellsA), sb = Split(cellsB);
+  char file[PETSC_MAX_PATH_LEN]; // in the working folder, one per rank count (the tests may run at once)
+  PetscCall(PetscSNPrintf(file, sizeof file, "fracture_insertion_np%d.h5", (int)size));
+
+  FDEMDeformable A, B;
+  PetscCall(Make(PETSC_COMM_WORLD, cellsA, 0.5, &A));
+  PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &B));
+  CHECK(A->nnodes_global == (PetscInt)sa.mesh.nodes.size() && B->nnodes_global == (PetscInt)sb.mesh.nodes.size() && A->njoints_global == (PetscInt)sa.joints.size() && B->njoints_global == (PetscInt)sb.joints.size(),
+        "nodes %" PetscInt_FMT " and %" PetscInt_FMT ", joints %" PetscInt_FMT " and %" PetscInt_FMT "; the split gives %zu, %zu, %zu, %zu", A->nnodes_global, B->nnodes_global, A->njoints_global, B->njoints_global, sa.mesh.nodes.size(), sb.mesh.nodes.size(), sa.joints.size(), sb.joints.size());
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "A: %zu cells split, %zu nodes, %zu joints; B: %zu cells split, %zu nodes, %zu joints\n", cellsA.size(), sa.mesh.nodes.size(), sa.joints.size(), cellsB.size(), sb.mesh.nodes.size(), sb.joints.size()));
+
+  // 1. A's state loaded into B
+  PetscCall(Save(A, file));
+  {
+    PetscViewer v;
+    PetscInt    n;
+    const PetscInt *ids;
+    PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_READ, &v));
+    PetscCall(FDEMDeformableGetNodeIds(B, &n, &ids));
+    std::vector<PetscInt> from(sb.mesh.nodes.size(), -1); // B's node -> A's node, by the corners
+    for (size_t t = 0; t < M.tets.size(); ++t)
+      for (int k = 0; k < 4; ++k) from[sb.mesh.tets[t][k]] = sa.mesh.tets[t][k];
+    PetscInt bad = 0;
+    for (int w = 0; w < 2; ++w) {
+      Vec                nat, loc;
+      VecScatter         sc;
+      const PetscScalar *a;
+      PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, 3 * B->nnodes_global, &nat));
+      PetscCall(PetscObjectSetName((PetscObject)nat, w ? "mesh_v" : "mesh_x"));
+      PetscCall(FDEMDeformableLoadNodeVector(B, v, nat));
+      PetscCall(VecScatterCreateToAll(nat, &sc, &loc));
+      PetscCall(VecScatterBegin(sc, nat, loc, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(sc, nat, loc, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecGetArrayRead(loc, &a));
+      for (PetscInt i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) bad += PetscRealPart(a[3 * ids[i] + c]) != NodeValue(from[ids[i]], c, w);
+      PetscCall(VecRestoreArrayRead(loc, &a));
+      PetscCall(VecScatterDestroy(&sc));
+      PetscCall(VecDestroy(&loc));
+      PetscCall(VecDestroy(&nat));
+    }
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(bad == 0, "%" PetscInt_FMT " node values of B are not those of the node their corner had in A", bad);
+
+    PetscCall(FDEMDeformableLoadJointState(B, v));
+    // B's joint -> A's joint by the face's input nodes, and the point on the same edge
+    auto key = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j) {
+      std::array<int, 3> k = {s.parent[j.a[0]], s.parent[j.a[1]], s.parent[j.a[2]]};
+      std::sort(k.begin(), k.end());
+      return k;
+    };
+    std::map<std::array<int, 3>, PetscInt> ofA;
+    for (size_t j = 0; j < sa.joints.size(); ++j) ofA[key(sa, sa.joints[j])] = (PetscInt)j;
+    PetscInt badj = 0, fresh = 0, kept = 0;
+    for (size_t j = 0; j < B->jstate.size(); ++j) {
+      const auto &J  = sb.joints[B->jgid[j]];
+      const auto  it = ofA.find(key(sb, J));
+      if (it == ofA.end()) {
+        ++fresh;
+        for (int q = 0; q < 3; ++q) badj += B->jstate[j][q].D != 0 || B->jstate[j][q].shear_damage != 0 || B->jstate[j][q].last_tension != -1 || B->jstate[j][q].last_shear != -1;
+        badj += B->jdiss[j] != 0;
+        continue;
+      }
+      ++kept;
+      const auto &I = sa.joints[it->second];
+      for (int q = 0; q < 3; ++q) {
+        const std::set<int> eb = {sb.parent[J.a[q]], sb.parent[J.a[(q + 1) % 3]]};
+        int                 r  = -1;
+        for (int p = 0; p < 3; ++p)
+          if (std::set<int>{sa.parent[I.a[p]], sa.parent[I.a[(p + 1) % 3]]} == eb) r = p;
+        const double D = PointDamage(it->second, r);
+        badj += r < 0 || B->jstate[j][q].D != D || B->jstate[j][q].shear_damage != (float)(2 * D) || B->jstate[j][q].last_tension != (float)(3 * D) || B->jstate[j][q].last_shear != (float)(4 * D);
+      }
+      badj += B->jdiss[j] != 1e-3 * it->second;
+    }
+    PetscInt g[3] = {badj, fresh, kept};
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, g, 3, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CHECK(g[0] == 0 && g[2] == (PetscInt)sa.joints.size() && g[1] + g[2] == (PetscInt)sb.joints.size(), "%" PetscInt_FMT " joint values of B wrong; %" PetscInt_FMT " joints kept (A had %zu), %" PetscInt_FMT " new", g[0], g[2], sa.joints.size(), g[1]);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "loaded into B: %" PetscInt_FMT " joints kept their state, %" PetscInt_FMT " new joints intact\n", g[2], g[1]));
+
+    // 2. the inserted cells
+    PetscInt        nb, na, *ca;
+    const PetscInt *cb;
+    PetscCall(FDEMDeformableGetFractureCells(B, &nb, &cb));
+    CHECK(std::vector<PetscInt>(cb, cb + nb) == cellsB, "FDEMDeformableGetFractureCells: %" PetscInt_FMT " cells, expected B's %zu", nb, cellsB.size());
+    PetscCall(FDEMDeformableReadFractureCells(PETSC_COMM_WORLD, v, &na, &ca));
+    CHECK(std::vector<PetscInt>(ca, ca + na) == cellsA, "FDEMDeformableReadFractureCells: %" PetscInt_FMT " cells, expected A's %zu", na, cellsA.size());
+    PetscCall(PetscFree(ca));
+    PetscCall(PetscViewerDestroy(&v));
+  }
+
+  // 3. the cells to split at three stretches
+  {
+    const double ratios[3] = {0, 0.4, 0.6};
+    PetscInt     whole = 0;
+    for (size_t t = 0; t < M.tets.size(); ++t) whole += M.body[t] == 0 && !std::binary_search(cellsA.begin(), cellsA.end(), (PetscInt)t);
+    for (double r : ratios) {
+      PetscInt  n, *c;
+      PetscCall(Stretch(A, r * 1e6 / 1e9));
+      PetscCall(FDEMDeformableFindCellsToSplit(A, nullptr, &n, &c));
+      bool ok = r < 0.5 ? n == 0 : n == whole;
+      for (PetscInt i = 0; ok && i < n; ++i) ok = M.body[c[i]] == 0 && !std::binary_search(cellsA.begin(), cellsA.end(), c[i]);
+      CHECK(ok, "stretched to sigma_xx = %g f_t: %" PetscInt_FMT " cells to split, expected %" PetscInt_FMT, r, n, r < 0.5 ? 0 : whole);
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "stretched to sigma_xx = %g f_t: %" PetscInt_FMT " cells to split\n", r, n));
+      PetscCall(PetscFree(c));
+    }
+  }
+
+  // 4. errors
+  {
+    PetscViewer v;
+    PetscCall(Save(B, file)); // B split more than A: A cannot take it
+    PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_READ, &v));
+    PetscCall(ExpectError("a checkpoint that split tetrahedra the model keeps whole", "keeps whole", [&]() -> PetscErrorCode {
+      Vec nat;
+      PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, 3 * A->nnodes_global, &nat));
+      PetscCall(PetscObjectSetName((PetscObject)nat, "mesh_x"));
+      PetscErrorCode e = FDEMDeformableLoadNodeVector(A, v, nat);
+      PetscCall(VecDestroy(&nat));
+      return e;
+    }));
+    PetscCall(PetscViewerDestroy(&v));
+    FDEMDeformable E = nullptr;
+    PetscCall(ExpectError("a ratio of 1.5", {"rock", "(0, 1]"}, [&]() { return Make(PETSC_COMM_WORLD, {}, 1.5, &E); }));
+    PetscCall(FDEMDeformableDestroy(&E));
+    PetscInt steel = -1;
+    for (size_t t = 0; t < M.tets.size() && steel < 0; ++t)
+      if (M.body[t] == 1) steel = (PetscInt)t;
+    PetscCall(ExpectError("a cell of a body without insertion", {"steel", "no joints inserted"}, [&]() { return Make(PETSC_COMM_WORLD, {steel}, 0.5, &E); }));
+    PetscCall(FDEMDeformableDestroy(&E));
+    PetscCall(ExpectError("a cell outside the mesh", {"tetrahedron 999", "not in the mesh"}, [&]() { return Make(PETSC_COMM_WORLD, {999}, 0.5, &E); }));
+    PetscCall(FDEMDeformableDestroy(&E));
+  }
+  PetscCall(FDEMDeformableDestroy(&A));
+  PetscCall(FDEMDeformableDestroy(&B));
+  PetscCall(ReportChecks());
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
