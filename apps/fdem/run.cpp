@@ -536,15 +536,24 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscInt ncheckpoints = 0;
   // with joints inserted during the run, segments also end every o.insert_every steps
   const PetscInt ins = s.inserting ? o.insert_every : 0;
-  std::string    insert_file;
+  // (the state crosses to the rebuilt scene through a file that every rank reads: in the output
+  // folder, or without output in PETSc's temporary folder, which must then be shared)
+  std::string insert_file;
   if (ins) {
-    char        tmpdir[PETSC_MAX_PATH_LEN];
-    long long   pid = (long long)getpid();
-    PetscCall(PetscGetTmp(comm, tmpdir, sizeof(tmpdir)));
+    long long pid = (long long)getpid();
     PetscCallMPI(MPI_Bcast(&pid, 1, MPI_LONG_LONG, 0, comm));
-    insert_file = std::string(tmpdir) + "/fdem-insert-" + std::to_string(pid) + ".h5";
+    if (write) insert_file = fdir + "/.insert-" + std::to_string(pid) + ".h5";
+    else {
+      char      tmpdir[PETSC_MAX_PATH_LEN];
+      PetscBool shared;
+      PetscCall(PetscGetTmp(comm, tmpdir, sizeof(tmpdir)));
+      PetscCall(PetscSharedTmp(comm, &shared));
+      PetscCheck(shared, comm, PETSC_ERR_SUP, "%s: joints inserted during the run (fracture.insert_at) carry the state through a file, and with -fdem_output none it goes to %s, which the ranks do not share: give an output folder, or set PETSC_TMP to a shared one", sc.file.c_str(), tmpdir);
+      insert_file = std::string(tmpdir) + "/fdem-insert-" + std::to_string(pid) + ".h5";
+    }
   }
-  PetscInt ninserted = 0, ninsertions = 0;
+  PetscInt       ninserted = 0, ninsertions = 0;
+  PetscLogDouble insert_time = 0; // wall time of the searches and rebuilds
   while (step < nsteps && t < end * (1 - 1e-12)) {
     TSConvergedReason reason;
     PetscInt          next = (step / every + 1) * every;
@@ -558,6 +567,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     const bool last = step >= nsteps || t >= end * (1 - 1e-12);
     if (ins && !last && step % ins == 0) { // joints where the stress nears the strength: the scene built again with them
       std::vector<PetscInt> cells;
+      PetscLogDouble        i0, i1;
+      PetscCall(PetscTime(&i0));
       PetscCall(SimRestore(s));
       PetscCall(SimFindCellsToSplit(s, cells));
       if (!cells.empty()) {
@@ -572,6 +583,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
         ++ninsertions;
         if (o.progress) PetscCall(PetscPrintf(comm, "%st = %.5g s: joints inserted at %zu tetrahedra whose stress neared the strength (%" PetscInt_FMT " joints, %" PetscInt_FMT " nodes now)\n", prog.tty ? "\r" : "", (double)t, cells.size(), s.njoints, s.nnodes));
       }
+      PetscCall(PetscTime(&i1));
+      insert_time += i1 - i0;
     }
     if (step % every != 0 && !last) continue; // (a segment that ended for the insertion only)
     b.t = t;
@@ -642,7 +655,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
                         w1 - w0, wbuild - w0, run, run > 0 ? ran / run : 0.0, run > 0 ? ran * (double)nbodies / run : 0.0, maxcpu, maxcpu > 0 ? ran * (double)nbodies / (maxcpu * size) : 0.0));
   PetscCall(PetscPrintf(comm, "balance: energy at start %.6g J, at end %.6g J (kinetic %.4g, strain %.4g, contact %.4g, gravity %.4g, fracture %.4g), dissipated %.4g J; momentum change max %.3g kg m/s\n", first.total, b.total, b.kinetic, b.strain, b.contact, b.gravity,
                         b.fracture, b.dissipated, maxdP));
-  if (s.inserting) PetscCall(PetscPrintf(comm, "fracture: joints inserted %" PetscInt_FMT " times in this run, at %" PetscInt_FMT " tetrahedra; %" PetscInt_FMT " joints at the end\n", ninsertions, ninserted, s.njoints));
+  if (s.inserting) PetscCall(PetscPrintf(comm, "fracture: joints inserted %" PetscInt_FMT " times in this run, at %" PetscInt_FMT " tetrahedra; %" PetscInt_FMT " joints at the end; the searches and the rebuilds took %.3g s of wall time\n", ninsertions, ninserted, s.njoints, (double)insert_time));
   PetscCall(PrintTimeSummary(comm, run));
   PetscCall(PrintContactSummary(s, nbodies));
   PetscCall(WriteFragments(s, write ? fdir + "/fragments.csv" : std::string()));

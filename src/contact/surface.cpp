@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 
 PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<PetscInt> &conn, const std::vector<PetscInt> &ngid, std::vector<char> &surf) {
   PetscMPIInt size;
@@ -11,28 +10,44 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
   PetscCallMPI(MPI_Comm_size(comm, &size));
   using Face = std::array<PetscInt, 3>;
   const PetscInt nc = (PetscInt)conn.size() / 4;
-  std::map<Face, int> local;
-  auto                face = [&](PetscInt e, int o) {
-    Face f;
-    int  k = 0;
-    for (int a = 0; a < 4; ++a)
-      if (a != o) f[k++] = ngid[conn[4 * e + a]];
-    std::sort(f.begin(), f.end());
-    return f;
+  // every local face (its sorted global node ids) with its cell and the node opposite it, sorted
+  // so that the copies of a face are adjacent
+  struct Side {
+    Face     f;
+    PetscInt eo; // 4 cell + o
   };
+  std::vector<Side> sides(4 * (size_t)nc);
   for (PetscInt e = 0; e < nc; ++e)
-    for (int o = 0; o < 4; ++o) local[face(e, o)]++;
-  std::vector<Face>              once;
-  std::vector<std::vector<int>>  send(size);
-  std::vector<std::vector<Face>> sendf(size);
-  std::map<Face, int>            slot;
-  for (const auto &kv : local)
-    if (kv.second == 1) {
-      const unsigned long long h = (unsigned long long)kv.first[0] * 73856093ULL ^ (unsigned long long)kv.first[1] * 19349663ULL ^ (unsigned long long)kv.first[2] * 83492791ULL;
-      const int                r = (int)(h % (unsigned long long)size);
-      slot[kv.first]           = (int)sendf[r].size() * size + r;
-      sendf[r].push_back(kv.first);
+    for (int o = 0; o < 4; ++o) {
+      Side &sd = sides[4 * e + o];
+      int   k  = 0;
+      for (int a = 0; a < 4; ++a)
+        if (a != o) sd.f[k++] = ngid[conn[4 * e + a]];
+      std::sort(sd.f.begin(), sd.f.end());
+      sd.eo = 4 * e + o;
     }
+  std::sort(sides.begin(), sides.end(), [](const Side &a, const Side &b) { // (entry by entry: std::array's operators call memcmp)
+    if (a.f[0] != b.f[0]) return a.f[0] < b.f[0];
+    if (a.f[1] != b.f[1]) return a.f[1] < b.f[1];
+    if (a.f[2] != b.f[2]) return a.f[2] < b.f[2];
+    return a.eo < b.eo;
+  });
+  // a face held once on this rank may be held by another: each such face is counted on the
+  // rank its hash names, and the count comes back
+  std::vector<std::vector<Face>>                     sendf(size);
+  std::vector<std::pair<PetscInt, int>>              mine; // (4 cell + o, its slot: index * size + rank)
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i + 1;
+    while (j < sides.size() && sides[j].f == sides[i].f) ++j;
+    if (j - i == 1) {
+      const Face              &f = sides[i].f;
+      const unsigned long long h = (unsigned long long)f[0] * 73856093ULL ^ (unsigned long long)f[1] * 19349663ULL ^ (unsigned long long)f[2] * 83492791ULL;
+      const int                r = (int)(h % (unsigned long long)size);
+      mine.push_back({sides[i].eo, (int)sendf[r].size() * size + r});
+      sendf[r].push_back(f);
+    }
+    i = j;
+  }
   std::vector<int> sc(size), rc(size), sd(size + 1, 0), rd(size + 1, 0);
   for (int r = 0; r < size; ++r) sc[r] = 3 * (int)sendf[r].size();
   PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm));
@@ -45,10 +60,19 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
     for (size_t i = 0; i < sendf[r].size(); ++i)
       for (int k = 0; k < 3; ++k) sbuf[sd[r] + 3 * i + k] = sendf[r][i][k];
   PetscCallMPI(MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPIU_INT, rbuf.data(), rc.data(), rd.data(), MPIU_INT, comm));
-  std::map<Face, int> home;
-  for (int i = 0; i < rd[size]; i += 3) home[{rbuf[i], rbuf[i + 1], rbuf[i + 2]}]++;
-  std::vector<PetscInt> back(rd[size] / 3), got(sd[size] / 3);
-  for (int i = 0; i < rd[size]; i += 3) back[i / 3] = home[{rbuf[i], rbuf[i + 1], rbuf[i + 2]}];
+  // how many ranks sent each face: the received faces sorted, each counted
+  const size_t            nr = (size_t)rd[size] / 3;
+  std::vector<size_t>     order(nr);
+  std::vector<PetscInt>   back(nr), got(sd[size] / 3);
+  for (size_t i = 0; i < nr; ++i) order[i] = i;
+  auto rface = [&](size_t i) { return Face{rbuf[3 * i], rbuf[3 * i + 1], rbuf[3 * i + 2]}; };
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return rface(a) < rface(b); });
+  for (size_t i = 0; i < nr;) {
+    size_t j = i + 1;
+    while (j < nr && rface(order[j]) == rface(order[i])) ++j;
+    for (size_t k = i; k < j; ++k) back[order[k]] = (PetscInt)(j - i);
+    i = j;
+  }
   for (int r = 0; r <= size; ++r) {
     sd[r] /= 3;
     rd[r] /= 3;
@@ -59,13 +83,10 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
   }
   PetscCallMPI(MPI_Alltoallv(back.data(), rc.data(), rd.data(), MPIU_INT, got.data(), sc.data(), sd.data(), MPIU_INT, comm));
   surf.assign(nc, 0);
-  for (PetscInt e = 0; e < nc; ++e)
-    for (int o = 0; o < 4; ++o) {
-      auto it = slot.find(face(e, o));
-      if (it == slot.end()) continue;
-      const int r = it->second % size, i = it->second / size;
-      if (got[sd[r] + i] == 1) surf[e] |= (char)(1 << o); // face o (opposite node o) is on the boundary
-    }
+  for (const auto &m : mine) {
+    const int r = m.second % size, i = m.second / size;
+    if (got[sd[r] + i] == 1) surf[m.first / 4] |= (char)(1 << (m.first % 4)); // face o (opposite node o) is on the boundary
+  }
   PetscFunctionReturn(0);
 }
 

@@ -19,7 +19,13 @@ std::vector<TetFace> SortedFaces(const std::vector<std::array<int, 4>> &tets) {
       std::sort(k.begin(), k.end());
       faces.push_back({k, t, f});
     }
-  std::sort(faces.begin(), faces.end(), [](const TetFace &a, const TetFace &b) { return a.key < b.key || (a.key == b.key && a.tet < b.tet); });
+  // (the keys compared entry by entry: std::array's operators call memcmp here)
+  std::sort(faces.begin(), faces.end(), [](const TetFace &a, const TetFace &b) {
+    if (a.key[0] != b.key[0]) return a.key[0] < b.key[0];
+    if (a.key[1] != b.key[1]) return a.key[1] < b.key[1];
+    if (a.key[2] != b.key[2]) return a.key[2] < b.key[2];
+    return a.tet < b.tet;
+  });
   return faces;
 }
 

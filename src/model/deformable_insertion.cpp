@@ -125,20 +125,18 @@ PetscErrorCode fdem::model::deformable::SavedSplitDiffers(FDEMDeformable d, Pets
   PetscFunctionReturn(0);
 }
 
-// rank 0: the node of the split with `old` inserted that each node of this model's split comes from.
-void fdem::model::deformable::NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold) {
+// rank 0: the nodes and joints of the split with `old` inserted that this model's nodes and
+// joints come from (made once for each `old`: the node vectors and the joint fields of a load
+// all use them). Each node of this model is a tetrahedron's corner, which has a node in that
+// split; a joint comes from the joint of that split on the same face (if any), each of its
+// points (the midpoint of edge (q, q+1) of triangle a) from that joint's point on the same
+// edge (triangle a may be on the other side now).
+static void Origins(FDEMDeformable d, const std::vector<PetscInt> &old) {
+  if (d->origin_nodes >= 0 && d->origin_of == old) return;
   const fdem::kernels::SplitMesh a = SplitWith(d, old), b = SplitWith(d, d->inserted);
-  from.assign(b.mesh.nodes.size(), -1);
+  d->node_origin.assign(b.mesh.nodes.size(), -1);
   for (std::size_t t = 0; t < b.mesh.tets.size(); ++t)
-    for (int k = 0; k < 4; ++k) from[b.mesh.tets[t][k]] = a.mesh.tets[t][k];
-  *nold = (PetscInt)a.mesh.nodes.size();
-}
-
-// rank 0: the joint of the split with `old` inserted that each joint of this model's split
-// comes from (-1: new), and for each of its points (the midpoint of edge (q, q+1) of triangle
-// a) the point of that joint on the same edge (triangle a may be on the other side now).
-void fdem::model::deformable::JointOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<JointOrigin> &from, PetscInt *nold) {
-  const fdem::kernels::SplitMesh a = SplitWith(d, old), b = SplitWith(d, d->inserted);
+    for (int k = 0; k < 4; ++k) d->node_origin[b.mesh.tets[t][k]] = a.mesh.tets[t][k];
   auto key = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j) {
     std::array<int, 3> k = {s.parent[j.a[0]], s.parent[j.a[1]], s.parent[j.a[2]]};
     std::sort(k.begin(), k.end());
@@ -148,18 +146,32 @@ void fdem::model::deformable::JointOrigins(FDEMDeformable d, const std::vector<P
     const int u = s.parent[j.a[q]], w = s.parent[j.a[(q + 1) % 3]];
     return std::make_pair(std::min(u, w), std::max(u, w));
   };
-  from.assign(b.joints.size(), JointOrigin{});
+  d->joint_origin.assign(b.joints.size(), JointOrigin{});
   std::size_t i = 0;
   for (std::size_t j = 0; j < b.joints.size(); ++j) { // both in the order of their sorted face keys
     const auto kb = key(b, b.joints[j]);
     while (i < a.joints.size() && key(a, a.joints[i]) < kb) ++i;
     if (i == a.joints.size() || key(a, a.joints[i]) != kb) continue;
-    from[j].joint = (PetscInt)i;
+    d->joint_origin[j].joint = (PetscInt)i;
     for (int q = 0; q < 3; ++q)
       for (int r = 0; r < 3; ++r)
-        if (edge(a, a.joints[i], r) == edge(b, b.joints[j], q)) from[j].point[q] = r;
+        if (edge(a, a.joints[i], r) == edge(b, b.joints[j], q)) d->joint_origin[j].point[q] = r;
   }
-  *nold = (PetscInt)a.joints.size();
+  d->origin_of     = old;
+  d->origin_nodes  = (PetscInt)a.mesh.nodes.size();
+  d->origin_joints = (PetscInt)a.joints.size();
+}
+
+void fdem::model::deformable::NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold) {
+  Origins(d, old);
+  from  = d->node_origin;
+  *nold = d->origin_nodes;
+}
+
+void fdem::model::deformable::JointOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<JointOrigin> &from, PetscInt *nold) {
+  Origins(d, old);
+  from  = d->joint_origin;
+  *nold = d->origin_joints;
 }
 
 // Loads the saved vector named as `nat` (this model's natural layout) written with a split of
@@ -249,7 +261,10 @@ PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable d, PetscViewer viewer
   }
   std::vector<PetscInt> from;
   PetscInt              nold = 0;
-  if (d->rank == 0) NodeOrigins(d, old, from, &nold);
+  PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
+    if (d->rank == 0) NodeOrigins(d, old, from, &nold);
+    return 0;
+  }));
   PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
   PetscCall(LoadMapped(d, viewer, nat, nold, 3, [&](const PetscScalar *o, PetscScalar *n) {
     for (std::size_t i = 0; i < from.size(); ++i)

@@ -43,6 +43,13 @@ struct OutputRecord {
   PetscReal t;
   PetscInt  nvert, ncell;
 };
+
+// A joint of a larger split (joints inserted during a run): the joint of a smaller split it
+// comes from, and the point of that joint on the same edge as each of its points.
+struct JointOrigin {
+  PetscInt joint    = -1;          // -1: a new joint
+  int      point[3] = {0, 1, 2};
+};
 } // namespace fdem::model::deformable
 
 struct _n_FDEMDeformable {
@@ -89,6 +96,10 @@ struct _n_FDEMDeformable {
   fdem::kernels::TetMesh                  input_mesh;     // rank 0, with insertion: the mesh before the split
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
   std::vector<char>                       tet_split;      // rank 0, with insertion: the tetrahedra split now
+  std::vector<PetscInt>                   origin_of;      // rank 0: the inserted cells of the split that node_origin and joint_origin map from
+  std::vector<PetscInt>                   node_origin;    // rank 0: per node, its node in that split (NodeOrigins)
+  std::vector<fdem::model::deformable::JointOrigin> joint_origin; // rank 0: per joint, its joint there (JointOrigins)
+  PetscInt                                origin_nodes = -1, origin_joints = -1; // that split's counts (-1: not made)
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
   std::vector<char>                       split_tet;      // rank 0, set-up: 1 for a tetrahedron with nodes of its own (partition weights)
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
@@ -151,10 +162,6 @@ PetscErrorCode AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *
 void SplitFracturable(FDEMDeformable d, const std::vector<int> &material_of_body);
 PetscErrorCode SetUpJoints(FDEMDeformable d);
 // Joints inserted during a run (deformable_insertion.cpp).
-struct JointOrigin {
-  PetscInt joint    = -1;          // the joint it comes from, -1: a new joint
-  int      point[3] = {0, 1, 2}; // that joint's point on the same edge, per point
-};
 PetscErrorCode ReadInsertedCells(MPI_Comm comm, PetscViewer viewer, std::vector<PetscInt> &cells, bool *has);
 PetscErrorCode ViewInsertedCells(FDEMDeformable d, PetscViewer viewer);
 PetscErrorCode SavedSplitDiffers(FDEMDeformable d, PetscViewer viewer, std::vector<PetscInt> &old, bool *differs);

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Joints inserted during a run (tests/driver/fracture_insertion.yaml, doc/fracture.md).
+usage: insertion.py MPIEXEC NP FDEM SCENE PRESPLIT_SCENE
+  1. the straight run A on NP ranks inserts joints several times (its summary says how often)
+     and breaks the bar; against the same bar split from the start (PRESPLIT_SCENE, run S):
+     the peak of the pull (from balance.csv's external work) within 2%, the energy the
+     fracture dissipated at the end within 2%, and the balance closed as well (largest
+     |dissipated| below 2e-3 of the largest energy);
+  2. A's first checkpoint (2.5 ms, between two insertions; the scene keeps them all), restarted
+     to the end on NP ranks (B): the same insertions after 2.5 ms as A, the same joints broken
+     in the same steps, and the last row of balance.csv equal to A's bitwise;
+  3. the same restart on the other rank count (C): the same insertions, the same joints broken
+     (in steps within 2 of A's: the bar is symmetric, and round-off decides between mirror
+     joints), the last row within 1e-3 of the largest value."""
+import csv, os, re, subprocess, sys
+from scratch import scratch_dir
+
+mpiexec, np, fdem, scene, presplit = sys.argv[1:6]
+other = "2" if np == "1" else "1"
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+root = scratch_dir("fdem_insertion_")
+fail = []
+
+def run(n, out, more, sc=scene):
+    cmd = [mpiexec, "--oversubscribe", "-n", n, fdem, sc, "-fdem_output", os.path.join(root, out), "-fdem_progress", "1"] + more
+    print("$ " + " ".join(cmd), flush=True)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+    print(r.stdout[-2500:] + r.stderr[-2000:])
+    if r.returncode != 0:
+        sys.exit(f"FAIL: exit status {r.returncode}")
+    return r.stdout
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + (": " + detail if detail else ""))
+    if not ok: fail.append(name)
+
+def rows(out):
+    with open(os.path.join(root, out, "balance.csv")) as f:
+        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+def breaks(out): # (step, joint) of every break
+    with open(os.path.join(root, out, "fracture.csv")) as f:
+        return [(int(r["step"]), int(r["joint"])) for r in csv.DictReader(f)]
+
+def insertions(text): # (time, tetrahedra) of every insertion the run reports
+    return [(float(t), int(n)) for t, n in re.findall(r"t = ([0-9.e+-]+) s: joints inserted at ([0-9]+) tetrahedra", text)]
+
+def peak_pull(out): # the largest power of the moved nodes over their speed (0.1 m/s), N
+    r = rows(out)
+    return max((b["external_work"] - a["external_work"]) / (b["time"] - a["time"]) / 0.1 for a, b in zip(r, r[1:]))
+
+def worst(out):
+    r = rows(out)
+    scale = max(max(abs(x["kinetic"]), abs(x["strain"]), abs(x["fracture"]), abs(x["external_work"])) for x in r)
+    return max(abs(x["dissipated"]) for x in r) / scale
+
+def last(out):
+    return open(os.path.join(root, out, "balance.csv")).read().strip().split("\n")[-1]
+
+# 1. the straight run against the bar split from the start
+ta = run(np, "A", [])
+run(np, "S", [], presplit)
+ia = insertions(ta)
+check("the straight run inserts joints several times", len(ia) >= 3, f"{len(ia)} insertions: {ia}")
+pa, ps = peak_pull("A"), peak_pull("S")
+check("peak pull within 2% of the bar split from the start", abs(pa - ps) <= 0.02 * ps, f"{pa:.5g} N against {ps:.5g} N")
+fa, fs = rows("A")[-1]["fracture"], rows("S")[-1]["fracture"]
+check("energy dissipated by the fracture within 2% of the bar split from the start", abs(fa - fs) <= 0.02 * fs, f"{fa:.5g} J against {fs:.5g} J")
+wa, ws = worst("A"), worst("S")
+check("balance closed: largest |dissipated| below 2e-3 of the largest energy", wa <= 2e-3, f"{wa:.3e} (the bar split from the start: {ws:.3e})")
+check("the bar breaks", len(breaks("A")) > 0, f"{len(breaks('A'))} joints broken")
+
+# 2. a restart from a checkpoint between two insertions, on the same ranks
+import glob
+first = max(glob.glob(os.path.join(root, "A", "checkpoint.*.h5")), key=lambda f: int(f.split(".")[-2])) # the oldest kept
+tb = run(np, "B", ["-restart", first])
+after = [x for x in ia if x[0] > 0.0025]
+check("the restart makes the insertions the straight run made after 2.5 ms", insertions(tb) == after and len(after) >= 2, f"{insertions(tb)} against {after}")
+check("the restart breaks the same joints in the same steps", breaks("B") == breaks("A"), f"{len(breaks('B'))} breaks")
+check(f"the restart's last balance row equals the straight run's bitwise ({np} ranks)", last("A") == last("B"), f"\n  {last('A')}\n  {last('B')}")
+
+# 3. the same restart on the other rank count
+tc = run(other, "C", ["-restart", first])
+check(f"on {other} ranks: the same insertions", [n for _, n in insertions(tc)] == [n for _, n in after], f"{insertions(tc)}")
+bc, ba = breaks("C"), breaks("A")
+same = sorted(j for _, j in bc) == sorted(j for _, j in ba)
+near = same and all(min(abs(s - t) for t, k in ba if k == j) <= 2 for s, j in bc)
+check(f"on {other} ranks: the same joints break, in steps within 2 of the straight run's", near, f"{len(bc)} breaks")
+a, c = [float(x) for x in last("A").split(",")], [float(x) for x in last("C").split(",")]
+d = max(abs(x - y) for x, y in zip(a, c)) / max(abs(x) for x in a)
+check(f"on {other} ranks: last balance row within 1e-3 of the largest value", d <= 1e-3, f"{d:.3e}")
+sys.exit(1 if fail else 0)
