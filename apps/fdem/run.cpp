@@ -351,10 +351,10 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
   PetscCall(PetscOptionsReal("-fdem_balance_gain_limit", "stop when balance.csv shows the scene gained more than this fraction of its energy (an unstable step); 0: never", "", o.gain_limit, &o.gain_limit, nullptr));
   PetscCall(PetscOptionsInt("-fdem_insert_every", "steps between the searches for tetrahedra that get joints during the run (materials' fracture.insert_at)", "", o.insert_every, &o.insert_every, nullptr));
-  PetscCheck(o.insert_every >= 1, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_every %" PetscInt_FMT ": give a number of steps >= 1", o.insert_every);
   PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
+  PetscCheck(o.insert_every >= 1, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_every %" PetscInt_FMT ": give a number of steps >= 1", o.insert_every);
   PetscFunctionReturn(0);
 }
 
