@@ -46,7 +46,8 @@ def run(name, dt=None):
            "cpu": float(re.search(r"stepping CPU time ([0-9.]+) s", o).group(1)) / steps,
            "joints": int(m.group(1)) if (m := re.search(r"([0-9]+) joints at the end", o)) else int(m2.group(1)) if (m2 := re.search(r"fracture: ([0-9]+) joints", o)) else 0,
            "fragments": int(m.group(1)) if (m := re.search(r"fragments: ([0-9]+)", o)) else 1,
-           "insertions": o.count("joints inserted at")}
+           "insertions": int(m.group(1)) if (m := re.search(r"joints inserted ([0-9]+) times", o)) else 0,
+           "rebuild": float(m.group(1)) if (m := re.search(r"the rebuilds took ([0-9.e+-]+) s", o)) else 0.0}
     return res
 
 dt = run("split from the start")["dt"] # the joints' limit, for all three
@@ -56,7 +57,7 @@ for r in range(args.rounds):
     for n in variants:
         x = run(n, dt)
         res[n].append(x)
-        print(f"round {r + 1} {n:22s} {x['steps']} steps: TSStep {1e3 * x['tsstep']:.3f} ms/step, stepping CPU {1e3 * x['cpu']:.3f} ms/step, {x['joints']} joints at the end, {x['fragments']} fragments, {x['insertions']} insertions", flush=True)
+        print(f"round {r + 1} {n:22s} {x['steps']} steps: TSStep {1e3 * x['tsstep']:.3f} ms/step, stepping CPU {1e3 * x['cpu']:.3f} ms/step, {x['joints']} joints at the end, {x['fragments']} fragments, {x['insertions']} insertions ({x['rebuild']:.2f} s of wall time in the searches and rebuilds)", flush=True)
 base = statistics.median(x["tsstep"] for x in res["not fracturable"])
 basec = statistics.median(x["cpu"] for x in res["not fracturable"])
 print("\n| block | TSStep per step (median) | ratio | stepping CPU per step, with the rebuilds | ratio | joints at the end | fragments |")
