@@ -188,6 +188,7 @@ PetscErrorCode fdem::model::deformable::LoadMapped(FDEMDeformable d, PetscViewer
   PetscCall(PetscObjectSetName((PetscObject)old, name));
   PetscCall(VecLoad(old, viewer));
   PetscCall(VecGetSize(old, &N));
+  if (N != per * nold) PetscCall(VecDestroy(&old));
   PetscCheck(N == per * nold, d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint's %s has %" PetscInt_FMT " entries; the split it was written with has %" PetscInt_FMT " x %" PetscInt_FMT " (another scene?)", name, N, nold, per);
   PetscCall(VecScatterCreateToZero(old, &so, &old0));
   PetscCall(VecScatterBegin(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
