@@ -377,6 +377,14 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   }
   std::vector<PetscInt> split_cells; // the tetrahedra a checkpoint's run had split by insertion
   if (o.restart[0]) PetscCall(SimReadFractureCells(comm, o.restart, split_cells));
+  if (!split_cells.empty()) {
+    bool inserting = false;
+    for (const Body &b : sc.bodies) {
+      const Material *m = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
+      inserting         = inserting || (b.model == "deformable" && m && m->fracture.present && m->fracture.insert_at > 0);
+    }
+    PetscCheck(inserting, comm, PETSC_ERR_USER_INPUT, "%s: the checkpoint %s was written by a run that inserted joints during the run (at %zu tetrahedra), but no deformable body of this scene has a material with fracture.insert_at: restart with the scene it was written with", sc.file.c_str(), o.restart, split_cells.size());
+  }
   PetscCall(SimBuild(comm, sc, std::move(meshes), s, split_cells));
   PetscReal t = 0, dt_restart = 0;
   PetscInt  step = 0;

@@ -8,7 +8,8 @@ usage: insertion.py MPIEXEC NP FDEM SCENE PRESPLIT_SCENE
      |dissipated| below 2e-3 of the largest energy);
   2. A's first checkpoint (2.5 ms, between two insertions; the scene keeps them all), restarted
      to the end on NP ranks (B): the same insertions after 2.5 ms as A, the same joints broken
-     in the same steps, and the last row of balance.csv equal to A's bitwise;
+     in the same steps, and the last row of balance.csv equal to A's bitwise; the scene without
+     insert_at restarted from it stops with an error that says why;
   3. the same restart on the other rank count (C): the same insertions, the same joints broken
      (in steps within 2 of A's: the bar is symmetric, and round-off decides between mirror
      joints), the last row within 1e-3 of the largest value."""
@@ -21,14 +22,14 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 root = scratch_dir("fdem_insertion_")
 fail = []
 
-def run(n, out, more, sc=scene):
+def run(n, out, more, sc=scene, expect_ok=True):
     cmd = [mpiexec, "--oversubscribe", "-n", n, fdem, sc, "-fdem_output", os.path.join(root, out), "-fdem_progress", "1"] + more
     print("$ " + " ".join(cmd), flush=True)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
     print(r.stdout[-2500:] + r.stderr[-2000:])
-    if r.returncode != 0:
+    if expect_ok and r.returncode != 0:
         sys.exit(f"FAIL: exit status {r.returncode}")
-    return r.stdout
+    return r.stdout if expect_ok else (r.returncode, r.stdout + r.stderr)
 
 def check(name, ok, detail=""):
     print(("ok   " if ok else "FAIL ") + name + (": " + detail if detail else ""))
@@ -78,6 +79,10 @@ after = [x for x in ia if x[0] > 0.0025]
 check("the restart makes the insertions the straight run made after 2.5 ms", insertions(tb) == after and len(after) >= 2, f"{insertions(tb)} against {after}")
 check("the restart breaks the same joints in the same steps", breaks("B") == breaks("A"), f"{len(breaks('B'))} breaks")
 check(f"the restart's last balance row equals the straight run's bitwise ({np} ranks)", last("A") == last("B"), f"\n  {last('A')}\n  {last('B')}")
+
+# a scene without insert_at cannot take that checkpoint: an error that says why
+code, text = run(np, "X", ["-restart", first], presplit, expect_ok=False)
+check("restarting a scene without insert_at from it: an error naming the checkpoint", code != 0 and "inserted joints during the run" in text and "fracture.insert_at" in text, f"exit status {code}")
 
 # 3. the same restart on the other rank count
 tc = run(other, "C", ["-restart", first])
