@@ -41,34 +41,28 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   std::vector<char>                                          in_zone;
   std::vector<const std::vector<std::array<double, 6>> *>   zones(mob.size(), nullptr);
   std::vector<std::vector<long long>>                        held(mob.size());
-  for (const auto &kv : d->fracture_zones) {
+  // the fracturable body a zone or an insertion names (what: the call and what the body has)
+  auto fracturable_body = [&](const std::string &name, const char *api, const char *has) {
     const auto &names = d->mesh.body_names;
-    const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
+    const int   b     = (int)(std::find(names.begin(), names.end(), name) - names.begin());
     if (b == (int)names.size()) {
-      std::string have;
-      for (const auto &n : names) have += (have.empty() ? "" : ", ") + n;
-      throw fdem::kernels::InputError("FDEMDeformableAddFractureZone names body '" + kv.first + "', which is not in the mesh (its bodies: " + have + ")");
+      std::string list;
+      for (const auto &n : names) list += (list.empty() ? "" : ", ") + n;
+      throw fdem::kernels::InputError(std::string(api) + " names body '" + name + "', which is not in the mesh (its bodies: " + list + ")");
     }
     if (!split[b])
-      throw fdem::kernels::InputError("body '" + kv.first + "' has a fracture zone, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
-    zones[b] = &kv.second;
+      throw fdem::kernels::InputError("body '" + name + "' has " + has + ", but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
+    return b;
+  };
+  for (const auto &kv : d->fracture_zones) {
+    const int b = fracturable_body(kv.first, "FDEMDeformableAddFractureZone", "a fracture zone");
+    zones[b]    = &kv.second;
     held[b].assign(kv.second.size(), 0);
   }
   // bodies with joints inserted during a run: split only in their zones (if any) and at the
   // tetrahedra inserted so far
   std::vector<char> inserting(mob.size(), 0);
-  for (const auto &kv : d->insertion) {
-    const auto &names = d->mesh.body_names;
-    const int   b     = (int)(std::find(names.begin(), names.end(), kv.first) - names.begin());
-    if (b == (int)names.size()) {
-      std::string have;
-      for (const auto &n : names) have += (have.empty() ? "" : ", ") + n;
-      throw fdem::kernels::InputError("FDEMDeformableSetFractureInsertion names body '" + kv.first + "', which is not in the mesh (its bodies: " + have + ")");
-    }
-    if (!split[b])
-      throw fdem::kernels::InputError("body '" + kv.first + "' has joints inserted during the run, but its material '" + d->materials[mob[b]].name + "' is not fracturable (give the material fracture properties: FDEMDeformableSetMaterialFracture)");
-    inserting[b] = 1;
-  }
+  for (const auto &kv : d->insertion) inserting[fracturable_body(kv.first, "FDEMDeformableSetFractureInsertion", "joints inserted during the run")] = 1;
   for (PetscInt t : d->inserted) {
     if (t < 0 || t >= (PetscInt)d->mesh.tets.size()) throw fdem::kernels::InputError("FDEMDeformableAddFractureCells: tetrahedron " + std::to_string(t) + " is not in the mesh (" + std::to_string(d->mesh.tets.size()) + " tetrahedra)");
     if (!inserting[d->mesh.body[t]]) throw fdem::kernels::InputError("FDEMDeformableAddFractureCells: tetrahedron " + std::to_string(t) + " is in body '" + d->mesh.body_names[d->mesh.body[t]] + "', which has no joints inserted during the run (FDEMDeformableSetFractureInsertion)");
