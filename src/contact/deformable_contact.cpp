@@ -44,7 +44,7 @@ PetscErrorCode FDEMDeformableContactCreate(FDEMDeformable dfm, FDEMDeformableCon
   fdem::contact::MeshAdapter *m;
   PetscFunctionBegin;
   PetscCall(fdem::contact::RegisterEvents());
-  PetscCall(fdem::contact::MeshAdapter::Create(dfm, fdem::contact::MeshAdapter::Cells::BoundaryFace, fdem::contact::MeshAdapter::Pairs::WithItself, &m)); // also checks set-up
+  PetscCall(fdem::contact::MeshAdapter::Create(dfm, fdem::contact::MeshAdapter::Cells::BoundaryFace, fdem::contact::MeshAdapter::Pairs::WithItself, fdem::contact::MeshAdapter::Spheres::None, &m)); // also checks set-up
   PetscCall(FDEMDeformableGetDM(dfm, &dm));
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   FDEMDeformableContact c = new (std::nothrow) _n_FDEMDeformableContact(dfm, comm);

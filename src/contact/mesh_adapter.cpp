@@ -2,6 +2,7 @@
 #include "mesh_adapter.hpp"
 #include "surface.hpp"
 #include "../model/deformable_impl.hpp"
+#include "../model/deformable_object.hpp"
 #include <fdem/deformable.h>
 
 #include <algorithm>
@@ -9,7 +10,7 @@
 #include <new>
 
 namespace fdem::contact {
-PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, MeshAdapter **out) {
+PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, Spheres spheres, MeshAdapter **out) {
   PetscInt  nc, nlocal;
   MPI_Comm  comm;
   DM        dm;
@@ -24,13 +25,16 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, M
   m->d_         = d;
   m->which_     = which;
   m->fractured_ = joints;
+  m->weights_   = spheres == Spheres::Weighted;
   AllCells &A   = m->all_;
   A.conn.resize(4 * (size_t)nc);
   A.body.resize(nc);
   A.gid.resize(nc);
   A.ngid.resize(nlocal);
   PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, A.conn.data(), A.body.data(), A.gid.data(), A.ngid.data()));
-  PetscCall(BoundaryFaces(comm, A.conn, A.ngid, A.surf));
+  if (!d->boundary_made) PetscCall(BoundaryFaces(comm, A.conn, A.ngid, d->boundary_faces)); // (the mesh does not change after set-up)
+  d->boundary_made = true;
+  A.surf = d->boundary_faces;
   if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
   PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
   if (joints) { // the cells of fracturable bodies are chosen by the fracture topology
@@ -59,11 +63,13 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, M
 }
 
 // The weights of a sphere's contacts with the copies of vertices and edges, from the surface
-// of the fracture topology t (the faces Select gives the contact).
+// of the fracture topology t (the faces Select gives the contact). Without spheres to weigh,
+// nothing (they cost a rendezvous over every vertex and edge of the fracturable cells).
 PetscErrorCode MeshAdapter::Shares(const fdem::model::FractureTopology &t) {
   const AllCells            &A = all_;
-  std::vector<unsigned char> surface(A.body.size(), 0);
   PetscFunctionBegin;
+  if (!weights_) PetscFunctionReturn(0);
+  std::vector<unsigned char> surface(A.body.size(), 0);
   for (size_t e = 0; e < surface.size(); ++e)
     if (t.fracturable[A.body[e]]) surface[e] = (unsigned char)(t.cell_free[e] & 0xF & A.surf[e]);
   PetscCall(fdem::model::DeformableFeatureShares(d_, t, surface, share_));
@@ -111,7 +117,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
     p.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
-    if (frac) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
+    if (frac && !share_.empty()) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
     prims_.push_back(p);
     faces_.push_back(surf);

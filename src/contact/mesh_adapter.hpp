@@ -16,8 +16,11 @@ public:
   // itself or another mesh body), or only with other kinds (rigid bodies, spheres). Only the
   // first needs the cells at damaged joints (a crack's sides, MeshAdapter::Select).
   enum class Pairs { WithItself, OtherKindsOnly };
+  // Which weights a cell's vertices and edges carry for spheres (MeshAdapter::Shares): those of
+  // their copies on a crack's sides, or none (the engine pairs the mesh with no sphere).
+  enum class Spheres { Weighted, None };
   // Collective: finds the cells (after FDEMDeformableSetUp).
-  static PetscErrorCode Create(FDEMDeformable d, Cells which, Pairs pairs, MeshAdapter **out);
+  static PetscErrorCode Create(FDEMDeformable d, Cells which, Pairs pairs, Spheres spheres, MeshAdapter **out);
   // Before each evaluation: local (ghosted) positions xl, velocities vl (may be null) and
   // forces fl (added to), in the node numbering of the mesh's local vectors.
   void Bind(const PetscScalar *xl, const PetscScalar *vl, PetscScalar *fl) {
@@ -80,7 +83,8 @@ private:
   bool                                 surface_pending_ = false; // Pending's: joints broke (the surface changes)
   bool                                 damaged_cells_ = true; // -fdem_joint_damaged_contact: the cells of damaged joints take part
   std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
-  std::vector<float>                   share_;             // per local cell, 10: the weights of its vertices' and edges' copies (DeformableFeatureShares), as of nbroken_
+  bool                                 weights_ = false;   // Spheres::Weighted: share_ is kept
+  std::vector<float>                   share_;             // per local cell, 10: the weights of its vertices' and edges' copies (DeformableFeatureShares), as of nbroken_ (empty: all 1)
   FDEMDeformable                       d_ = nullptr;
   PetscInt                             nbodies_ = 0;
   std::vector<std::array<PetscInt, 4>> conn_;  // local node indices

@@ -7,7 +7,7 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   MeshAdapter *m;
   PetscFunctionBegin;
   PetscCall(RegisterEvents());
-  PetscCall(MeshAdapter::Create(d, MeshAdapter::Cells::BoundaryVertex, MeshAdapter::Pairs::OtherKindsOnly, &m));
+  PetscCall(MeshAdapter::Create(d, MeshAdapter::Cells::BoundaryVertex, MeshAdapter::Pairs::OtherKindsOnly, rb->nspheres > 0 ? MeshAdapter::Spheres::Weighted : MeshAdapter::Spheres::None, &m));
   m->RequireVelocities(false); // diagnostics evaluate without velocities: taken as zero
   PetscInt nc = m->NumCells();
   PetscCallMPI(MPI_Allreduce(&nc, &cells_, 1, MPIU_INT, MPI_SUM, engine.Comm()));

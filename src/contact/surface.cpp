@@ -1,6 +1,8 @@
 // The boundary of a distributed tetrahedral mesh (see surface.hpp).
 #include "surface.hpp"
 
+#include <fdem/kernels/bucket_sort.hpp>
+
 #include <algorithm>
 #include <array>
 
@@ -26,12 +28,22 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
       std::sort(sd.f.begin(), sd.f.end());
       sd.eo = 4 * e + o;
     }
-  std::sort(sides.begin(), sides.end(), [](const Side &a, const Side &b) { // (entry by entry: std::array's operators call memcmp)
+  fdem::kernels::BucketSort(sides, [](const Side &a) { return a.f[0]; }, [](const Side &a, const Side &b) { // (entry by entry: std::array's operators call memcmp)
     if (a.f[0] != b.f[0]) return a.f[0] < b.f[0];
     if (a.f[1] != b.f[1]) return a.f[1] < b.f[1];
     if (a.f[2] != b.f[2]) return a.f[2] < b.f[2];
     return a.eo < b.eo;
   });
+  surf.assign(nc, 0);
+  if (size == 1) { // a face held once is on the boundary
+    for (size_t i = 0; i < sides.size();) {
+      size_t j = i + 1;
+      while (j < sides.size() && sides[j].f == sides[i].f) ++j;
+      if (j - i == 1) surf[sides[i].eo / 4] |= (char)(1 << (sides[i].eo % 4));
+      i = j;
+    }
+    PetscFunctionReturn(0);
+  }
   // a face held once on this rank may be held by another: each such face is counted on the
   // rank its hash names, and the count comes back
   std::vector<std::vector<Face>>                     sendf(size);
@@ -82,7 +94,6 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
     rc[r] = rd[r + 1] - rd[r];
   }
   PetscCallMPI(MPI_Alltoallv(back.data(), rc.data(), rd.data(), MPIU_INT, got.data(), sc.data(), sd.data(), MPIU_INT, comm));
-  surf.assign(nc, 0);
   for (const auto &m : mine) {
     const int r = m.second % size, i = m.second / size;
     if (got[sd[r] + i] == 1) surf[m.first / 4] |= (char)(1 << (m.first % 4)); // face o (opposite node o) is on the boundary

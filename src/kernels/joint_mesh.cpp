@@ -1,5 +1,6 @@
 // Splitting a tetrahedral mesh into joints (include/fdem/kernels/joint_mesh.hpp).
 #include <fdem/kernels/joint_mesh.hpp>
+#include <fdem/kernels/bucket_sort.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,12 +21,13 @@ std::vector<TetFace> SortedFaces(const std::vector<std::array<int, 4>> &tets) {
       faces.push_back({k, t, f});
     }
   // (the keys compared entry by entry: std::array's operators call memcmp here)
-  std::sort(faces.begin(), faces.end(), [](const TetFace &a, const TetFace &b) {
+  const auto before = [](const TetFace &a, const TetFace &b) {
     if (a.key[0] != b.key[0]) return a.key[0] < b.key[0];
     if (a.key[1] != b.key[1]) return a.key[1] < b.key[1];
     if (a.key[2] != b.key[2]) return a.key[2] < b.key[2];
-    return a.tet < b.tet;
-  });
+    return a.tet != b.tet ? a.tet < b.tet : a.local < b.local;
+  };
+  BucketSort(faces, [](const TetFace &f) { return f.key[0]; }, before); // linear: one bucket per smallest node id
   return faces;
 }
 

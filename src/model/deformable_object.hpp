@@ -106,6 +106,8 @@ struct _n_FDEMDeformable {
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
   std::vector<PetscInt>                   owned_input;    // the input node of each owned node (FixNodes/MoveNodes/field ids; owned_gid unless split)
   std::vector<PetscInt>                   local_input;    // the input node of each local node (empty when nothing was split)
+  std::vector<char>                       boundary_faces; // per local cell, bit o: its face o is on the mesh's boundary (contact::BoundaryFaces, made once for every contact that lists the mesh)
+  bool                                    boundary_made = false; // boundary_faces is made (on every rank)
   PetscSF                                 share_sf = nullptr; // 10 leaves per cell of a fracturable body -> its input vertices and edges (DeformableFeatureShares)
   PetscInt                                ninput_nodes = 0; // nodes of the input mesh
   PetscInt                                njoints_global = 0;
