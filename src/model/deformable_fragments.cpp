@@ -327,6 +327,14 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableFractureTopology"));
+  // A joint once damaged (broken) stays so while it steps, so the counts name the sets: the
+  // same counts, the same answer (the contact objects of a scene each ask at one evaluation)
+  PetscInt nbroken, ndamaged;
+  PetscCall(DeformableJointCounts(d, &nbroken, &ndamaged));
+  if (d->topology_made && d->topology.nbroken == nbroken && d->topology.ndamaged == ndamaged) {
+    t = d->topology;
+    PetscFunctionReturn(0);
+  }
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
   t.fracturable          = FracturableBodies(d);
   const PetscInt nbodies = (PetscInt)t.fracturable.size();
@@ -486,7 +494,8 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   }
   // 5. The answer per cell: its free faces and flags, its nodes' keys and its fragment's id
   //    (the smallest cell id in the fragment, the label of its class).
-  PetscCall(DeformableJointCounts(d, &t.nbroken, &t.ndamaged));
+  t.nbroken      = nbroken;
+  t.ndamaged     = ndamaged;
   t.broken_pairs = std::move(pairs);
   t.cell_free.resize(nc);
   t.cell_key.resize(4 * (std::size_t)nc);
@@ -500,6 +509,8 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0));
     t.cell_fragment[e] = cells.Label(e);
   }
+  d->topology      = t;
+  d->topology_made = true;
   PetscFunctionReturn(0);
 }
 

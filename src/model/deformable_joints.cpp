@@ -639,6 +639,7 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
 
 PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer) {
   PetscFunctionBegin;
+  d->topology_made = false; // (the joints' damage may go down)
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   // a state saved with fewer tetrahedra split (joints inserted since): the joints it had keep

@@ -20,6 +20,7 @@
 //  - cell_gid / node_gid: global (input) ids of local cells and nodes, carried
 //    through the distribution by broadcasting over the migration SF.
 #pragma once
+#include "deformable_impl.hpp"
 #include "work_meter.hpp"
 #include <fdem/deformable.h>
 #include <fdem/kernels/cst.hpp>
@@ -129,6 +130,8 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   jcell_a;        // their tetrahedra a: local cells
   std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
   PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
+  fdem::model::FractureTopology           topology;       // the last DeformableFractureTopology, for its counts of broken and damaged joints (each set only grows while the joints step)
+  bool                                    topology_made = false;
   bool                                    zoned = false;  // a fracture zone split part of a body (cells of fracturable bodies may share nodes)
 };
 
