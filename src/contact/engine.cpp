@@ -498,16 +498,17 @@ PetscErrorCode Engine::Search() {
       if (nl == 0) return 0;
       fdem::kernels::BoxSearch         bs;
       std::vector<std::pair<int, int>> tp;
-      bs.Build(boxes.data(), N);
       // each box's class (kind, fixed): only pairs of classes that may meet are listed (a
       // fixed body meets moving ones only; a kind the engine pairs with others only, such as
-      // the mesh of the contact with rigid bodies, has its own pairs left out of the search)
+      // the mesh of the contact with rigid bodies, has its own pairs left out of the search,
+      // and its cells far from every rigid body out of the search's levels)
       std::vector<std::uint8_t> cls(N);
       std::uint64_t             meet = 0;
       for (int i = 0; i < N; ++i) cls[i] = (std::uint8_t)(2 * P(i).kind + (P(i).fixed ? 1 : 0));
       for (int ca = 0; ca < 8; ++ca)
         for (int cb = 0; cb < 8; ++cb)
           if (allow_[ca / 2][cb / 2] && !(ca % 2 && cb % 2)) meet |= std::uint64_t(1) << (8 * ca + cb);
+      bs.Build(boxes.data(), N, cls.data(), meet);
       bs.FindPairs(tp, cls.data(), meet);
       // face planes, made when a pair first needs them
       std::vector<double> planes(16 * (size_t)N);

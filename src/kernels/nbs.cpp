@@ -415,15 +415,51 @@ void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
   pairs.resize(cnt);
 }
 
+
 namespace {
 inline bool BoxesMeet(const double *a, const double *b) {
   return (a[0] <= b[3]) & (b[0] <= a[3]) & (a[1] <= b[4]) & (b[1] <= a[4]) & (a[2] <= b[5]) & (b[2] <= a[5]);
 }
 } // namespace
 
+void BoxSearch::Build(const double *boxes, int n, const std::uint8_t *cls, std::uint64_t meet) {
+  if (n < 0) throw InputError("BoxSearch::Build: negative box count " + std::to_string(n));
+  for (int i = 0; i < n; ++i) // (every box checked, those left out too)
+    for (int d = 0; d < 3; ++d) {
+      const double *b = boxes + 6 * std::size_t(i);
+      if (!std::isfinite(b[d]) || !std::isfinite(b[3 + d]) || !(b[d] <= b[3 + d]))
+        throw InputError("BoxSearch::Build: box " + std::to_string(i) + " is not finite or has lo > hi");
+    }
+  // the box around each class's boxes; a box meeting none of the classes its own may meet is out
+  double around[8][6];
+  for (auto &a : around) a[0] = a[1] = a[2] = INFINITY, a[3] = a[4] = a[5] = -INFINITY;
+  for (int i = 0; i < n; ++i) {
+    const double *b = boxes + 6 * std::size_t(i);
+    double       *a = around[cls[i] & 7];
+    for (int d = 0; d < 3; ++d) a[d] = std::min(a[d], b[d]), a[3 + d] = std::max(a[3 + d], b[3 + d]);
+  }
+  std::vector<int> kept;
+  kept.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    bool in = false;
+    for (int c = 0; c < 8 && !in; ++c)
+      in = (meet >> (8 * (cls[i] & 7) + c) & 1u) && BoxesMeet(boxes + 6 * std::size_t(i), around[c]);
+    if (in) kept.push_back(i);
+  }
+  if (4 * (n - static_cast<std::int64_t>(kept.size())) < n) { // too few out to pay for the copy
+    Build(boxes, n);
+    return;
+  }
+  std::vector<double> sub(6 * kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) std::copy(boxes + 6 * std::size_t(kept[k]), boxes + 6 * std::size_t(kept[k]) + 6, sub.begin() + 6 * std::ptrdiff_t(k));
+  Build(sub.data(), static_cast<int>(kept.size()));
+  kept_ = std::move(kept);
+}
+
 void BoxSearch::Build(const double *boxes, int n) {
   if (n < 0) throw InputError("BoxSearch::Build: negative box count " + std::to_string(n));
   boxes_.assign(boxes, boxes + 6 * std::size_t(n));
+  kept_.clear();
   levels_.clear();
   std::vector<double> size(n);
   for (int i = 0; i < n; ++i) {
@@ -479,13 +515,18 @@ void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs, const std::ui
   const double *B = boxes_.data();
   std::vector<std::pair<int, int>> tp;
   std::vector<int> hits;
-  auto may = [&](int a, int b) { return !cls || (meet >> (8 * cls[a] + cls[b]) & 1u); };
+  const int *id = kept_.empty() ? nullptr : kept_.data(); // the caller's id of a box here
+  auto may = [&](int a, int b) { return !cls || (id ? meet >> (8 * cls[id[a]] + cls[id[b]]) & 1u : meet >> (8 * cls[a] + cls[b]) & 1u); };
+  auto add = [&](int a, int b) {
+    if (id) a = id[a], b = id[b];
+    pairs.push_back({std::min(a, b), std::max(a, b)});
+  };
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     const Level &L = levels_[l];
     L.cs.FindPairs(tp); // cubes around the boxes: test the boxes themselves
     for (const auto &p : tp) {
       const int a = L.ids[p.first], b = L.ids[p.second];
-      if (may(a, b) && BoxesMeet(B + 6 * std::size_t(a), B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+      if (may(a, b) && BoxesMeet(B + 6 * std::size_t(a), B + 6 * std::size_t(b))) add(a, b);
     }
     for (std::size_t k = 0; k < l; ++k) // the smaller levels, one query per box of this level
       for (int a : L.ids) {
@@ -494,7 +535,7 @@ void BoxSearch::FindPairs(std::vector<std::pair<int, int>> &pairs, const std::ui
         levels_[k].cs.FindInBox(ba, ba + 3, hits);
         for (int j : hits) {
           const int b = levels_[k].ids[j];
-          if (may(a, b) && BoxesMeet(ba, B + 6 * std::size_t(b))) pairs.push_back({std::min(a, b), std::max(a, b)});
+          if (may(a, b) && BoxesMeet(ba, B + 6 * std::size_t(b))) add(a, b);
         }
       }
   }

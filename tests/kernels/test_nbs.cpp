@@ -358,6 +358,57 @@ TEST(BoxSearch, ClassesThatMayMeet) {
   EXPECT_TRUE(got.empty());
 }
 
+TEST(BoxSearch, BoxesThatMeetNoClassTheyMayMeetAreLeftOut) {
+  // a mesh of 20^3 unit boxes (class 0, which meets class 2 only) and 30 small boxes (class 2,
+  // meets 0) near one corner of it: built with the classes, the mesh's boxes away from the
+  // corner are out of the levels, and the pairs are those of the plain search, in another order
+  std::mt19937_64                        rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double>                    b;
+  std::vector<std::uint8_t>              cls;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (int k = 0; k < 20; ++k) {
+        const double c[3] = {i + 0.05 * u(rng), j + 0.05 * u(rng), k + 0.05 * u(rng)};
+        for (int d = 0; d < 3; ++d) b.push_back(c[d] - 0.55);
+        for (int d = 0; d < 3; ++d) b.push_back(c[d] + 0.55);
+        cls.push_back(0);
+      }
+  for (int q = 0; q < 30; ++q) {
+    const double c[3] = {3 * u(rng) - 1, 3 * u(rng) - 1, 3 * u(rng) - 1}, h = 0.05 + 0.2 * u(rng);
+    for (int d = 0; d < 3; ++d) b.push_back(c[d] - h);
+    for (int d = 0; d < 3; ++d) b.push_back(c[d] + h);
+    cls.push_back(2);
+  }
+  const int     n    = (int)cls.size();
+  std::uint64_t meet = std::uint64_t(1) << (8 * 0 + 2) | std::uint64_t(1) << (8 * 2 + 0);
+  BoxSearch     plain, culled;
+  plain.Build(b.data(), n);
+  culled.Build(b.data(), n, cls.data(), meet);
+  EXPECT_EQ(plain.NumSearched(), n);
+  EXPECT_LT(culled.NumSearched(), 200) << "the mesh's boxes far from the small ones are out";
+  EXPECT_GT(culled.NumSearched(), 30);
+  Pairs ref, got;
+  plain.FindPairs(ref, cls.data(), meet);
+  culled.FindPairs(got, cls.data(), meet);
+  for (const auto &p : got) ASSERT_LT(p.first, p.second);
+  std::sort(ref.begin(), ref.end());
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, ref);
+  EXPECT_GT(ref.size(), 40u);
+  // with every class meeting every other, nothing is out and the search is the plain one, in its order
+  BoxSearch all;
+  all.Build(b.data(), n, cls.data(), ~std::uint64_t(0));
+  EXPECT_EQ(all.NumSearched(), n);
+  Pairs a, p;
+  all.FindPairs(a);
+  plain.FindPairs(p);
+  EXPECT_EQ(a, p);
+  // a bad box is named by its own index, left out or not
+  b[6 * 5000 + 1] = NAN;
+  EXPECT_THROW(culled.Build(b.data(), n, cls.data(), meet), fdem::kernels::InputError);
+}
+
 TEST(BoxSearch, EqualSizesTouchingAndDegenerate) {
   // a lattice of unit boxes touching face to face, and flat boxes (zero thickness)
   std::vector<double> b;

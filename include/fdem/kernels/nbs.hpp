@@ -79,12 +79,20 @@ public:
   // boxes: 6n doubles, lo(3) then hi(3) of each box. Copied. Throws InputError
   // on n < 0, a non-finite coordinate or lo > hi.
   void Build(const double *boxes, int n);
+  // The same, for the pairs of classes that may meet only (cls and meet as in
+  // FindPairs, which must then get the same two): a box that overlaps no box of
+  // a class its own may meet is in no such pair. When such boxes are a quarter
+  // of all or more (a few rigid bodies on a large mesh that pairs only with
+  // them), they are left out of the levels, and the search costs what the
+  // others cost; FindPairs then lists the same pairs in another order.
+  void Build(const double *boxes, int n, const std::uint8_t *cls, std::uint64_t meet);
   // All pairs (i, j), i < j, of boxes that overlap or touch, each once, in an
   // order that depends only on the boxes. `pairs` is cleared first. With cls
   // (n numbers below 8, one a box), only the pairs whose classes may meet:
   // bit 8 ca + cb of `meet` set (and bit 8 cb + ca), in the same order.
   void FindPairs(std::vector<std::pair<int, int>> &pairs, const std::uint8_t *cls = nullptr, std::uint64_t meet = ~std::uint64_t(0)) const;
   int NumLevels() const { return static_cast<int>(levels_.size()); }
+  int NumSearched() const { return static_cast<int>(boxes_.size() / 6); } // the boxes in the levels
 
 private:
   struct Level {
@@ -92,6 +100,7 @@ private:
     std::vector<int> ids; // the level's element j is box ids[j]
   };
   std::vector<double> boxes_;
+  std::vector<int> kept_; // the id given to Build of each box in boxes_ (empty: the same)
   std::vector<Level> levels_;
 };
 
