@@ -112,10 +112,21 @@ void CheckConforming(const TetMesh &mesh, const std::vector<TetFace> &faces, con
 }
 } // namespace
 
-SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body, const std::vector<char> &split_tet) {
-  if (static_cast<int>(split_body.size()) != mesh.NumBodies())
-    throw InputError("SplitForJoints: " + std::to_string(split_body.size()) + " split flags for " +
+JointSplitter::JointSplitter(const TetMesh &mesh, std::vector<char> split_body) : mesh_(&mesh), split_body_(std::move(split_body)) {
+  if (static_cast<int>(split_body_.size()) != mesh.NumBodies())
+    throw InputError("SplitForJoints: " + std::to_string(split_body_.size()) + " split flags for " +
                      std::to_string(mesh.NumBodies()) + " bodies");
+  faces_ = SortedFaces(mesh.tets);
+  CheckConforming(mesh, faces_, split_body_);
+}
+
+SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_body, const std::vector<char> &split_tet) {
+  return JointSplitter(mesh, split_body).Split(split_tet);
+}
+
+SplitMesh JointSplitter::Split(const std::vector<char> &split_tet) const {
+  const TetMesh           &mesh       = *mesh_;
+  const std::vector<char> &split_body = split_body_;
   const int nt = static_cast<int>(mesh.tets.size());
   if (!split_tet.empty() && static_cast<int>(split_tet.size()) != nt)
     throw InputError("SplitForJoints: " + std::to_string(split_tet.size()) + " tetrahedron flags for " + std::to_string(nt) + " tetrahedra");
@@ -147,8 +158,7 @@ SplitMesh SplitForJoints(const TetMesh &mesh, const std::vector<char> &split_bod
   }
   // joints: faces held by exactly two tetrahedra of one fracturable body, one of them split
   // at least (triangle a on a split one, so that a joint's side a has nodes of its own)
-  const std::vector<TetFace> faces = SortedFaces(mesh.tets);
-  CheckConforming(mesh, faces, split_body);
+  const std::vector<TetFace> &faces = faces_;
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;

@@ -25,7 +25,7 @@ namespace {
 fdem::kernels::SplitMesh SplitWith(FDEMDeformable d, const std::vector<PetscInt> &cells) {
   std::vector<char> flags = d->box_split;
   for (PetscInt t : cells) flags[t] = 1;
-  return fdem::kernels::SplitForJoints(d->input_mesh, d->split_body, flags);
+  return d->splitter->Split(flags);
 }
 
 // The largest principal stress and the Mohr-Coulomb ratio of a Cauchy stress (xx yy zz xy yz

@@ -98,8 +98,9 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
     d->box_split  = in_zone;
     for (PetscInt t : d->inserted) in_zone[t] = 1;
     d->tet_split = in_zone;
+    d->splitter  = std::make_unique<fdem::kernels::JointSplitter>(d->input_mesh, split); // (the faces sorted once for this set-up's splits and a load's)
   }
-  fdem::kernels::SplitMesh s = fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
+  fdem::kernels::SplitMesh s = d->splitter ? d->splitter->Split(in_zone) : fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;
@@ -124,7 +125,7 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   if (!d->insertion.empty()) {
     std::vector<char> all = in_zone;
     for (std::size_t t = 0; t < all.size(); ++t) all[t] = all[t] || inserting[d->mesh.body[t]];
-    full = fdem::kernels::SplitForJoints(d->mesh, split, all);
+    full = d->splitter->Split(all);
     for (const auto &j : full.joints) { // a joint that may come must have a valid law (checked now, not during the run)
       const auto  &x = full.mesh.nodes;
       const double h = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;

@@ -30,6 +30,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -95,6 +96,7 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   inserted;       // sorted input tetrahedra split by insertion (all ranks)
   std::vector<PetscReal>                  body_insertion; // per body: its ratio, 0 without insertion (all ranks, after set-up)
   fdem::kernels::TetMesh                  input_mesh;     // rank 0, with insertion: the mesh before the split
+  std::unique_ptr<fdem::kernels::JointSplitter> splitter; // rank 0, with insertion: the splits of input_mesh (its faces sorted once)
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
   std::vector<char>                       tet_split;      // rank 0, with insertion: the tetrahedra split now
   std::vector<PetscInt>                   origin_of;      // rank 0: the inserted cells of the split that node_origin and joint_origin map from

@@ -56,6 +56,21 @@ struct TetFace {
 };
 // All 4 n faces sorted by key, so that the copies of a face are adjacent.
 std::vector<TetFace> SortedFaces(const std::vector<std::array<int, 4>> &tets);
+
+// SplitForJoints for many splits of one mesh (fracture zones, joints inserted during a run):
+// the faces are sorted and the split bodies checked conforming once, at construction
+// (the same errors); Split(split_tet) is then SplitForJoints(mesh, split_body, split_tet).
+// The mesh must outlive the splitter.
+class JointSplitter {
+public:
+  JointSplitter(const TetMesh &mesh, std::vector<char> split_body);
+  SplitMesh Split(const std::vector<char> &split_tet = {}) const;
+
+private:
+  const TetMesh *mesh_;
+  std::vector<char> split_body_;
+  std::vector<TetFace> faces_;
+};
 // The face opposite node k of a tetrahedron, outward for a positively oriented one.
 inline constexpr int kTetFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
