@@ -107,4 +107,15 @@ PetscErrorCode SettleClasses(MPI_Comm comm, LabelClasses &c, const std::vector<P
 // dissipated energy then loses (FDEMDeformableGetJointEnergy; doc/fracture.md, "The handover
 // to contact"). Not collective.
 void DeformableAddOnset(FDEMDeformable d, PetscReal e);
+
+// The criterion of joints inserted during a run (deformable_insertion.cpp): a material's
+// strength, the ratio of a Cauchy stress (xx yy zz xy yz xz, tension positive) to it, and a
+// test that needs no eigenvalues and is true only when the ratio is below r.
+struct Strength {
+  double ft = 0, ccos = 0, sin = 0; // f_t, c cos(phi), sin(phi)
+  Strength() = default;
+  Strength(double tensile_strength, double cohesion, double friction_angle_degrees);
+};
+double StrengthRatio(const PetscReal *T, const Strength &m);
+bool   SurelyBelow(const PetscReal *T, const Strength &m, double r);
 } // namespace fdem::model

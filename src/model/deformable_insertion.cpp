@@ -28,10 +28,14 @@ fdem::kernels::SplitMesh SplitWith(FDEMDeformable d, const std::vector<PetscInt>
   return d->splitter->Split(flags);
 }
 
+} // namespace
+
+fdem::model::Strength::Strength(double tensile_strength, double cohesion, double friction_angle_degrees) : ft(tensile_strength), ccos(cohesion * std::cos(friction_angle_degrees * M_PI / 180)), sin(std::sin(friction_angle_degrees * M_PI / 180)) {}
+
 // The largest principal stress and the Mohr-Coulomb ratio of a Cauchy stress (xx yy zz xy yz
 // xz, tension positive) against a material: max(sigma_1 / f_t, ((s1 - s3) / 2) / (c cos phi -
 // (s1 + s3) / 2 sin phi)), the second infinite where the tension leaves no shear strength.
-double StrengthRatio(const PetscReal *T, const fdem::kernels::JointMaterial &m) {
+double fdem::model::StrengthRatio(const PetscReal *T, const Strength &m) {
   // eigenvalues of the symmetric matrix (trigonometric form)
   const double xx = T[0], yy = T[1], zz = T[2], xy = T[3], yz = T[4], xz = T[5];
   const double p1 = xy * xy + yz * yz + xz * xz, q = (xx + yy + zz) / 3;
@@ -47,12 +51,23 @@ double StrengthRatio(const PetscReal *T, const fdem::kernels::JointMaterial &m) 
     s1               = q + 2 * p * std::cos(phi);
     s3               = q + 2 * p * std::cos(phi + 2 * M_PI / 3);
   }
-  const double ph = m.friction_angle * M_PI / 180, den = m.cohesion * std::cos(ph) - 0.5 * (s1 + s3) * std::sin(ph);
+  const double den = m.ccos - 0.5 * (s1 + s3) * m.sin;
   const double shear = den > 0 ? 0.5 * (s1 - s3) / den : HUGE_VAL;
-  return std::max(s1 / m.tensile_strength, shear);
+  return std::max(s1 / m.ft, shear);
 }
 
-} // namespace
+// True when StrengthRatio(T, m) is surely below r, from bounds on the principal stresses that
+// need no eigenvalues (Gershgorin's discs: s1 <= U, s3 >= L, and s1 + s3 = tr - s2 <= tr - L),
+// kept 1e-9 of r clear of it so that round-off cannot decide (most cells of a body are far
+// from their strength: the trigonometric form is left for the others).
+bool fdem::model::SurelyBelow(const PetscReal *T, const Strength &m, double r) {
+  const double R0 = std::fabs(T[3]) + std::fabs(T[5]), R1 = std::fabs(T[3]) + std::fabs(T[4]), R2 = std::fabs(T[4]) + std::fabs(T[5]);
+  const double U = std::max({T[0] + R0, T[1] + R1, T[2] + R2}), L = std::min({T[0] - R0, T[1] - R1, T[2] - R2});
+  const double limit = r * (1 - 1e-9);
+  if (!(U / m.ft < limit)) return false; // (also NaN)
+  const double den = m.ccos - 0.5 * std::min(T[0] + T[1] + T[2] - L, 2 * U) * m.sin;
+  return m.sin >= 0 && den > 0 && 0.5 * (U - L) / den < limit;
+}
 
 // The inserted tetrahedra saved in a checkpoint ("fracture_cells": their count, then their
 // ids); *has false when it has none (a run without insertion, or an earlier fdem's).
@@ -295,12 +310,17 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   PetscCall(FDEMDeformableComputeCellStress(d, U, &S));
   PetscCall(VecGetArrayRead(S, &sa));
   std::vector<PetscInt> mine;
+  std::vector<fdem::model::Strength> strength(d->body_insertion.size()); // per body (of insertion bodies)
+  for (std::size_t b = 0; b < d->body_insertion.size(); ++b)
+    if (d->body_insertion[b] > 0) {
+      const auto &m = d->fracture.at(d->materials[d->material_of_body[b]].name);
+      strength[b]   = fdem::model::Strength(m.tensile_strength, m.cohesion, m.friction_angle);
+    }
   for (std::size_t e = 0; e < d->ed.size(); ++e) {
     const int       b = d->ed.body[e];
     const PetscReal r = d->body_insertion[b];
-    if (r <= 0) continue;
-    const auto &m = d->fracture.at(d->materials[d->material_of_body[b]].name);
-    if (StrengthRatio(&sa[6 * e], m) >= r) mine.push_back(d->cell_gid[e]);
+    if (r <= 0 || fdem::model::SurelyBelow(&sa[6 * e], strength[b], r)) continue;
+    if (fdem::model::StrengthRatio(&sa[6 * e], strength[b]) >= r) mine.push_back(d->cell_gid[e]);
   }
   PetscCall(VecRestoreArrayRead(S, &sa));
   PetscCall(VecDestroy(&S));

@@ -16,6 +16,8 @@
 //     sigma_xx = 0.4 f_t, none; at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron.
 //  4. Errors: loading B's state into A (a checkpoint that split tetrahedra A keeps whole),
 //     a ratio of 1.5, a cell of a body without insertion, a cell outside the mesh.
+//  5. The criterion (StrengthRatio) on random stresses against eigenvalues by Jacobi
+//     rotations, and its test without eigenvalues (SurelyBelow) never wrong.
 #include "common.hpp"
 #include "../../src/model/deformable_object.hpp"
 
@@ -25,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <set>
 
 namespace {
@@ -273,6 +276,57 @@ int main(int argc, char **argv) {
     PetscCall(FDEMDeformableDestroy(&E));
     PetscCall(ExpectError("a cell outside the mesh", {"tetrahedron 999", "not in the mesh"}, [&]() { return Make(PETSC_COMM_WORLD, {999}, 0.5, &E); }));
     PetscCall(FDEMDeformableDestroy(&E));
+  }
+  // 5. the criterion on 200 000 random stresses (entries up to 1e-3 to 3 f_t, some diagonal, some
+  //    mostly compressive) against eigenvalues by Jacobi rotations: the ratio agrees to 1e-9,
+  //    and the test without eigenvalues never says "below r" when the ratio is not
+  {
+    const fdem::model::Strength m(1.0e6, 2.0e6, 30);
+    std::mt19937_64             rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    PetscInt nbad = 0, nwrong = 0, nskip = 0, nsmall = 0;
+    double   worst = 0;
+    for (int k = 0; k < 200000; ++k) {
+      const double sc = 1.0e6 * std::pow(10.0, -3 + 3.5 * (0.5 + 0.5 * u(rng)));
+      double       T[6];
+      for (double &t : T) t = sc * u(rng);
+      if (k % 5 == 0) T[3] = T[4] = T[5] = 0;                     // principal axes
+      if (k % 5 == 1) T[0] -= 2 * sc, T[1] -= 2 * sc, T[2] -= 2 * sc; // mostly compressive: Mohr-Coulomb decides
+      double A[3][3] = {{T[0], T[3], T[5]}, {T[3], T[1], T[4]}, {T[5], T[4], T[2]}};
+      for (int sweep = 0; sweep < 60; ++sweep) { // Jacobi rotations
+        int p = 0, q = 1;
+        if (std::fabs(A[0][2]) > std::fabs(A[p][q])) p = 0, q = 2;
+        if (std::fabs(A[1][2]) > std::fabs(A[p][q])) p = 1, q = 2;
+        if (std::fabs(A[p][q]) <= 1e-18 * (std::fabs(A[0][0]) + std::fabs(A[1][1]) + std::fabs(A[2][2]))) break;
+        const double th = 0.5 * std::atan2(2 * A[p][q], A[q][q] - A[p][p]), c = std::cos(th), sn = std::sin(th);
+        for (int i = 0; i < 3; ++i) { // A <- A J, then J^T A
+          const double a = A[i][p], b = A[i][q];
+          A[i][p] = c * a - sn * b, A[i][q] = sn * a + c * b;
+        }
+        for (int j = 0; j < 3; ++j) {
+          const double a = A[p][j], b = A[q][j];
+          A[p][j] = c * a - sn * b, A[q][j] = sn * a + c * b;
+        }
+      }
+      const double s1 = std::max({A[0][0], A[1][1], A[2][2]}), s3 = std::min({A[0][0], A[1][1], A[2][2]});
+      const double den = 2.0e6 * std::cos(M_PI / 6) - 0.5 * (s1 + s3) * std::sin(M_PI / 6);
+      const double ref = std::max(s1 / 1.0e6, den > 0 ? 0.5 * (s1 - s3) / den : HUGE_VAL), got = fdem::model::StrengthRatio(T, m);
+      if (std::isfinite(ref) || std::isfinite(got)) {
+        const double err = std::fabs(got - ref) / std::max(std::fabs(ref), 1e-3);
+        worst = std::max(worst, err);
+        nbad += !(err <= 1e-9);
+      }
+      const double r = 0.05 + 1.2 * (0.5 + 0.5 * u(rng));
+      if (fdem::model::SurelyBelow(T, m, r)) {
+        ++nskip;
+        nwrong += !(ref < r);
+      }
+      nsmall += ref < 0.5 * r;
+    }
+    CHECK(nbad == 0, "the strength ratio of %" PetscInt_FMT " random stresses differs from the eigenvalues' by more than 1e-9 (worst %g)", nbad, worst);
+    CHECK(nwrong == 0, "%" PetscInt_FMT " stresses were said surely below their ratio and are not", nwrong);
+    CHECK(nskip > nsmall / 2, "the test without eigenvalues settles %" PetscInt_FMT " stresses; %" PetscInt_FMT " are below half their ratio", nskip, nsmall);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "criterion: ratio within %.2g of the eigenvalues'; %" PetscInt_FMT " of 200000 settled without them (%" PetscInt_FMT " below half their ratio)\n", worst, nskip, nsmall));
   }
   PetscCall(FDEMDeformableDestroy(&A));
   PetscCall(FDEMDeformableDestroy(&B));
