@@ -418,12 +418,20 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
           for (int q = 0; q < 4; ++q)
             if (q != o) nodes.flag[node(e, q)] = 1;
   {
-    std::unordered_map<long long, PetscInt> first; // cells of one body sharing a node (a split node has one cell)
+    // cells of one body sharing a node (a split node has one cell): the first cell at each node,
+    // and a map for the nodes that cells of a second body share
+    std::vector<PetscInt>                   first(nl, -1);
+    std::unordered_map<long long, PetscInt> other;
     for (PetscInt e = 0; e < nc; ++e)
       if (!split(e))
         for (int a = 0; a < 4; ++a) {
-          const auto it = first.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
-          if (!it.second) cells.Unite(it.first->second, e);
+          const PetscInt f = first[node(e, a)];
+          if (f < 0) first[node(e, a)] = e;
+          else if (d->ed.body[f] == d->ed.body[e]) cells.Unite(f, e);
+          else {
+            const auto it = other.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
+            if (!it.second) cells.Unite(it.first->second, e);
+          }
         }
   }
   for (PetscInt j = 0; j < nj; ++j)
