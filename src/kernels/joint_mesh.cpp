@@ -139,6 +139,11 @@ SplitMesh JointSplitter::Split(const std::vector<char> &split_tet) const {
   s.mesh.warnings = mesh.warnings;
   s.mesh.tets.resize(nt);
   s.split.resize(nt);
+  std::size_t nsplit = 0;
+  for (int t = 0; t < nt; ++t) nsplit += split(t) ? 1 : 0;
+  s.mesh.nodes.reserve(4 * nsplit + mesh.nodes.size()); // (at most)
+  s.parent.reserve(4 * nsplit + mesh.nodes.size());
+  s.joints.reserve(std::min(4 * nsplit, 2 * static_cast<std::size_t>(nt)));
   std::vector<int> kept(mesh.nodes.size(), -1); // new id of a node of an unsplit tetrahedron
   auto add = [&](int old) {
     s.mesh.nodes.push_back(mesh.nodes[old]);
