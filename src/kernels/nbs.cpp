@@ -415,7 +415,6 @@ void CellSearch::FindPairs(std::vector<std::pair<int, int>> &pairs) const {
   pairs.resize(cnt);
 }
 
-
 namespace {
 inline bool BoxesMeet(const double *a, const double *b) {
   return (a[0] <= b[3]) & (b[0] <= a[3]) & (a[1] <= b[4]) & (b[1] <= a[4]) & (a[2] <= b[5]) & (b[2] <= a[5]);
