@@ -32,7 +32,11 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, S
   A.gid.resize(nc);
   A.ngid.resize(nlocal);
   PetscCall(FDEMDeformableGetLocalCells(d, &nc, &nlocal, A.conn.data(), A.body.data(), A.gid.data(), A.ngid.data()));
-  if (!d->boundary_made) PetscCall(BoundaryFaces(comm, A.conn, A.ngid, d->boundary_faces)); // (the mesh does not change after set-up)
+  if (!d->boundary_made) { // (the mesh does not change after set-up)
+    std::vector<char> shared;
+    PetscCall(fdem::model::DeformableSharedNodes(d, shared));
+    PetscCall(BoundaryFaces(comm, A.conn, A.ngid, shared, d->boundary_faces));
+  }
   d->boundary_made = true;
   A.surf = d->boundary_faces;
   if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));

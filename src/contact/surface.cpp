@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <array>
 
-PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<PetscInt> &conn, const std::vector<PetscInt> &ngid, std::vector<char> &surf) {
+PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<PetscInt> &conn, const std::vector<PetscInt> &ngid, const std::vector<char> &shared, std::vector<char> &surf) {
   PetscMPIInt size;
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -35,23 +35,18 @@ PetscErrorCode fdem::contact::BoundaryFaces(MPI_Comm comm, const std::vector<Pet
     return a.eo < b.eo;
   });
   surf.assign(nc, 0);
-  if (size == 1) { // a face held once is on the boundary
-    for (size_t i = 0; i < sides.size();) {
-      size_t j = i + 1;
-      while (j < sides.size() && sides[j].f == sides[i].f) ++j;
-      if (j - i == 1) surf[sides[i].eo / 4] |= (char)(1 << (sides[i].eo % 4));
-      i = j;
-    }
-    PetscFunctionReturn(0);
-  }
-  // a face held once on this rank may be held by another: each such face is counted on the
-  // rank its hash names, and the count comes back
+  // a face held once on this rank is on the boundary unless another rank holds it too, which
+  // needs its three nodes shared: each such face is counted on the rank its hash names, and
+  // the count comes back
   std::vector<std::vector<Face>>                     sendf(size);
   std::vector<std::pair<PetscInt, int>>              mine; // (4 cell + o, its slot: index * size + rank)
   for (size_t i = 0; i < sides.size();) {
     size_t j = i + 1;
     while (j < sides.size() && sides[j].f == sides[i].f) ++j;
-    if (j - i == 1) {
+    const PetscInt eo = sides[i].eo;
+    const bool     at = j - i == 1 && shared[conn[eo / 4 * 4 + (eo % 4 + 1) % 4]] && shared[conn[eo / 4 * 4 + (eo % 4 + 2) % 4]] && shared[conn[eo / 4 * 4 + (eo % 4 + 3) % 4]];
+    if (j - i == 1 && !at) surf[eo / 4] |= (char)(1 << (eo % 4)); // face o (opposite node o) is on the boundary
+    if (at) {
       const Face              &f = sides[i].f;
       const unsigned long long h = (unsigned long long)f[0] * 73856093ULL ^ (unsigned long long)f[1] * 19349663ULL ^ (unsigned long long)f[2] * 83492791ULL;
       const int                r = (int)(h % (unsigned long long)size);

@@ -239,25 +239,6 @@ std::vector<char> FracturableBodies(FDEMDeformable d) {
   return f;
 }
 
-// The nodes this rank shares with others (1 per local node), through the DM's ghost nodes.
-PetscErrorCode SharedNodes(FDEMDeformable d, std::vector<char> &shared) {
-  Vec          l, g;
-  PetscScalar *a;
-  PetscFunctionBegin;
-  PetscCall(DMGetLocalVector(d->dm, &l));
-  PetscCall(DMGetGlobalVector(d->dm, &g));
-  PetscCall(VecSet(l, 1));
-  PetscCall(VecSet(g, 0));
-  PetscCall(DMLocalToGlobal(d->dm, l, ADD_VALUES, g));
-  PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
-  PetscCall(VecGetArray(l, &a));
-  shared.assign(d->nlocal, 0);
-  for (PetscInt i = 0; i < d->nlocal; ++i) shared[i] = PetscRealPart(a[3 * i]) > 1.5;
-  PetscCall(VecRestoreArray(l, &a));
-  PetscCall(DMRestoreGlobalVector(d->dm, &g));
-  PetscCall(DMRestoreLocalVector(d->dm, &l));
-  PetscFunctionReturn(0);
-}
 
 // An SF whose leaves are the given keys (two ints each) and whose roots are the distinct keys,
 // one root each on the rank key[0] % size (a rendezvous): leaves with one key share a root.
@@ -302,6 +283,25 @@ PetscErrorCode KeySF(MPI_Comm comm, const std::vector<std::array<PetscInt, 2>> &
 }
 } // namespace
 
+PetscErrorCode fdem::model::DeformableSharedNodes(FDEMDeformable d, std::vector<char> &shared) {
+  Vec          l, g;
+  PetscScalar *a;
+  PetscFunctionBegin;
+  PetscCall(DMGetLocalVector(d->dm, &l));
+  PetscCall(DMGetGlobalVector(d->dm, &g));
+  PetscCall(VecSet(l, 1));
+  PetscCall(VecSet(g, 0));
+  PetscCall(DMLocalToGlobal(d->dm, l, ADD_VALUES, g));
+  PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
+  PetscCall(VecGetArray(l, &a));
+  shared.assign(d->nlocal, 0);
+  for (PetscInt i = 0; i < d->nlocal; ++i) shared[i] = PetscRealPart(a[3 * i]) > 1.5;
+  PetscCall(VecRestoreArray(l, &a));
+  PetscCall(DMRestoreGlobalVector(d->dm, &g));
+  PetscCall(DMRestoreLocalVector(d->dm, &l));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode fdem::model::DeformableHasJoints(FDEMDeformable d, PetscBool *has) {
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableHasJoints"));
@@ -345,7 +345,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   // of its nodes is another cell's, here or elsewhere.
   const bool        sharing = d->size > 1 && (d->zoned || std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end());
   std::vector<char> shared(nl, 0);
-  if (sharing) PetscCall(SharedNodes(d, shared));
+  if (sharing) PetscCall(DeformableSharedNodes(d, shared));
   std::vector<int> uses(nl, 0);
   for (PetscInt e = 0; e < nc; ++e)
     for (int a = 0; a < 4; ++a) ++uses[node(e, a)];

@@ -63,6 +63,9 @@ PetscErrorCode DeformableFeatureShares(FDEMDeformable d, const FractureTopology 
 // included), all ranks, in one reduction; collective when the mesh has joints, 0 at once (no
 // communication) when it has none. Both only grow.
 PetscErrorCode DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscInt *ndamaged);
+// The local nodes this rank shares with others (1 per local node), through the DM's ghost
+// nodes. Collective.
+PetscErrorCode DeformableSharedNodes(FDEMDeformable d, std::vector<char> &shared);
 // Whether the mesh has fracture joints (the same on every rank).
 PetscErrorCode DeformableHasJoints(FDEMDeformable d, PetscBool *has);
 
