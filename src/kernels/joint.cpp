@@ -115,6 +115,19 @@ void JointSlipLimits(const JointLaw &L, double sigma, double *s_peak, double *s_
   if (s_crit) *s_crit = sp + L.s_span;
 }
 
+void JointSeparationFor(const JointLaw &L, double sigma, double tau, double *dn0, double *s0) {
+  // x with h(x) = 2x - x^2 = y on [0, 1]: 1 - sqrt(1 - y), written without the cancellation
+  auto branch = [](double y) {
+    y = std::min(std::max(y, 0.0), 1.0);
+    return y / (1.0 + std::sqrt(1.0 - y));
+  };
+  *dn0 = sigma >= 0 ? L.dn_peak * branch(sigma / L.ft) : 0.5 * sigma * L.dn_peak / L.ft; // the compression penalty 2 f_t dn / dn_peak
+  double sp;
+  JointSlipLimits(L, std::min(sigma, 0.0), &sp, nullptr); // as JointTractionAt takes it
+  const double fs = std::max(L.c - std::min(sigma, 0.0) * L.tan_phi, 0.0);
+  *s0             = fs > 0 ? sp * branch(tau / fs) : 0.0;
+}
+
 JointTraction JointTractionAt(const JointLaw &L, double dn, double s, JointState &state) {
   JointTraction t;
   if (state.broken()) {

@@ -173,10 +173,15 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   const PetscInt nj = sizes[0];
   d->zoned          = sizes[2] != 0;
   d->njoints_global = nj;
+  PetscBool prestress = PETSC_TRUE; // joints inserted under load start at their face's traction
   PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
+  PetscCall(PetscOptionsBool("-fdem_insert_prestress", "A joint inserted during a run (insert_at) starts at the traction its face carries, so that the insertion does not release the stress it carried (false: it starts unloaded; doc/fracture.md)", "FDEMDeformableSetFractureInsertion", prestress, &prestress, nullptr));
   PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (false: at its three points only; doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
   PetscOptionsEnd();
+  d->prestress         = prestress;
+  d->prestress_pending = false;
+  d->jofs.clear();
   if (sizes[1] == 0) { // nothing was split: every node is its own input node
     d->owned_input  = d->owned_gid;
     d->ninput_nodes = d->nnodes_global;
@@ -295,6 +300,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   d->jgone.assign(mycnt, 0);
   d->jcell_a.resize(mycnt);
   d->jtet_b.resize(mycnt);
+  d->jfresh.assign(mycnt, 0);
   d->jbreaks.clear();
   std::vector<PetscSFNode> remote(9 * (size_t)mycnt), remote_only;
   std::vector<PetscInt>    remote_leaf; // where remote_only's leaves are in jxb
@@ -418,6 +424,113 @@ static void GatherJointBlock(FDEMDeformable d, const PetscScalar *xl, std::size_
   GatherJointsColumns(d, xl, j0, 0, B);
 }
 
+// The frame of joint j's offset at triangle a's current nodes xa: E[0] = e1, E[1] = e2, E[2] =
+// n, times the sign of the side. Both sides of a face agree on it: its corners taken in the
+// order of their input nodes, e1 along the first edge, n the unit normal, e2 = n x e1; and the
+// offset is kept as the separation of the side of the larger tetrahedron id from the other, so
+// that it survives a rebuild that swaps triangles a and b.
+static void OffsetFrame(FDEMDeformable d, std::size_t j, const double xa[3][3], double E[3][3]) {
+  const std::array<int, 3> &na = d->jnode_a[j];
+  int                       i0 = 0, i1 = 1, i2 = 2; // sorted by input node
+  auto                      in = [&](int i) { return d->local_input[na[i]]; };
+  if (in(i1) < in(i0)) std::swap(i0, i1);
+  if (in(i2) < in(i1)) std::swap(i1, i2);
+  if (in(i1) < in(i0)) std::swap(i0, i1);
+  double *u = E[0], *e2 = E[1], *n = E[2], v[3];
+  for (int k = 0; k < 3; ++k) u[k] = xa[i1][k] - xa[i0][k], v[k] = xa[i2][k] - xa[i0][k];
+  n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+  const double sign = d->cell_gid[d->jcell_a[j]] < d->jtet_b[j][0] ? 1.0 : -1.0;
+  const double lu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int k = 0; k < 3; ++k) u[k] /= lu, n[k] /= ln;
+  e2[0] = n[1] * u[2] - n[2] * u[1], e2[1] = n[2] * u[0] - n[0] * u[2], e2[2] = n[0] * u[1] - n[1] * u[0];
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k) E[a][k] *= sign;
+}
+
+// The separation (b - a) that joint j's offset adds, at triangle a's current nodes xa.
+static void OffsetSeparation(FDEMDeformable d, std::size_t j, const double xa[3][3], double O[3]) {
+  const double *c = d->jofs[j].c;
+  double        E[3][3];
+  OffsetFrame(d, j, xa, E);
+  for (int k = 0; k < 3; ++k) O[k] = c[0] * E[0][k] + c[1] * E[1][k] + c[2] * E[2][k];
+}
+
+// Adds the offsets of the block's joints (from j0) to their triangles b.
+static void AddBlockOffsets(FDEMDeformable d, std::size_t j0, fdem::kernels::JointBlock &B) {
+  for (int b = 0; b < B.n; ++b) {
+    if (!d->jofs[j0 + b].any()) continue;
+    double xa[3][3], O[3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) xa[i][k] = B.xa[3 * i + k][b];
+    OffsetSeparation(d, j0 + b, xa, O);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) B.xb[3 * i + k][b] += O[k];
+  }
+}
+
+// Gives each joint inserted by the last load of a joint state (d->jfresh) the separation at
+// which it carries the traction its face carries at the positions xl: the mean of its two
+// tetrahedra's Cauchy stresses (their elastic part: a viscous stress stays with the
+// tetrahedra) on the face's normal (JointSeparationFor). Its points' histories are those of a
+// first evaluation there (the shear's secant), and the energy it then stores is where its
+// stored energy is counted from, so that the scene's total does not jump. Collective.
+static PetscErrorCode PrestressNewJoints(FDEMDeformable d, const PetscScalar *xl) {
+  PetscSF sf;
+  PetscFunctionBegin;
+  d->prestress_pending = false;
+  const std::size_t     nj = d->jnode_a.size(), nc = d->ed.size();
+  std::vector<PetscReal> S(6 * nc), Sb(6 * nj, 0.0);
+  for (std::size_t e = 0; e < nc; ++e) {
+    fdem::kernels::TetState st;
+    const bool              ok   = fdem::kernels::EvaluateTet(d->ed, e, xl, nullptr, st);
+    const double            T[6] = {st.T(0, 0), st.T(1, 1), st.T(2, 2), st.T(0, 1), st.T(1, 2), st.T(0, 2)};
+    for (int k = 0; k < 6; ++k) S[6 * e + k] = ok ? T[k] : NAN;
+  }
+  std::vector<PetscSFNode> remote(6 * nj);
+  for (std::size_t j = 0; j < nj; ++j)
+    for (int k = 0; k < 6; ++k) remote[6 * j + k] = {d->jtet_b[j][1], 6 * d->jtet_b[j][2] + k};
+  PetscCall(PetscSFCreate(d->comm, &sf));
+  PetscCall(PetscSFSetGraph(sf, 6 * (PetscInt)nc, 6 * (PetscInt)nj, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  PetscCall(PetscSFBcastBegin(sf, MPIU_REAL, S.data(), Sb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, MPIU_REAL, S.data(), Sb.data(), MPI_REPLACE));
+  PetscCall(PetscSFDestroy(&sf));
+  if (d->jofs.size() != nj) d->jofs.assign(nj, {});
+  for (std::size_t j = 0; j < nj; ++j) {
+    if (!d->jfresh[j]) continue;
+    double xa[3][3], n[3], T[6];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
+    const double u[3] = {xa[1][0] - xa[0][0], xa[1][1] - xa[0][1], xa[1][2] - xa[0][2]}, v[3] = {xa[2][0] - xa[0][0], xa[2][1] - xa[0][1], xa[2][2] - xa[0][2]};
+    n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+    const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 6; ++k) T[k] = 0.5 * (S[6 * d->jcell_a[j] + k] + Sb[6 * j + k]);
+    bool finite = ln > 0;
+    for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(T[k]);
+    if (!finite) continue; // an inverted tetrahedron: the joint starts intact, as without the option
+    for (int k = 0; k < 3; ++k) n[k] /= ln;
+    // the traction on triangle a (outward normal n, towards b): T n; its normal part and the rest
+    const double t[3]  = {T[0] * n[0] + T[3] * n[1] + T[5] * n[2], T[3] * n[0] + T[1] * n[1] + T[4] * n[2], T[5] * n[0] + T[4] * n[1] + T[2] * n[2]};
+    const double sn    = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+    const double tt[3] = {t[0] - sn * n[0], t[1] - sn * n[1], t[2] - sn * n[2]};
+    const double tau   = std::sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]);
+    double       dn0, s0, O[3], xb[3][3];
+    fdem::kernels::JointSeparationFor(d->jlaw[j], sn, tau, &dn0, &s0);
+    for (int k = 0; k < 3; ++k) O[k] = dn0 * n[k] + (tau > 0 ? s0 / tau * tt[k] : 0.0);
+    for (int q = 0; q < 3; ++q) {
+      d->jstate[j][q] = fdem::kernels::JointState{};
+      (void)fdem::kernels::JointTractionAt(d->jlaw[j], dn0, s0, d->jstate[j][q]);
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) xb[i][k] = xa[i][k] + O[k];
+    double E[3][3];
+    OffsetFrame(d, j, xa, E);
+    for (int a = 0; a < 3; ++a) d->jofs[j].c[a] = E[a][0] * O[0] + E[a][1] * O[1] + E[a][2] * O[2];
+    d->jofs[j].energy = fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
+    d->jfresh[j]      = 0;
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl) {
   PetscFunctionBegin;
   if (d->njoints_global == 0) PetscFunctionReturn(0);
@@ -436,6 +549,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
                             "WARNING fdem joints: the joints' frequency omega_j = %g (estimated from the joint penalty and the nodal masses; see doc/fracture.md) makes omega_j dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g or the joint penalty\n",
                             (double)d->joint_omega, (double)(d->joint_omega * dt), (double)(100 * r), (double)info.kcrit, type, (double)(0.5 * info.kcrit / d->joint_omega)));
   }
+  if (d->prestress_pending) PetscCall(PrestressNewJoints(d, xl));
   PetscCall(BringTrianglesB(d, d->jsf_remote, xl));
   // a block of joints at a time (JointBlockForces): gathered component-major, the forces on
   // A added to the local nodes in joint order, and B's (their negatives) too where triangle
@@ -445,6 +559,7 @@ PetscErrorCode fdem::model::deformable::AddJointForces(FDEMDeformable d, PetscRe
   for (std::size_t j0 = 0; j0 < nj; j0 += fdem::kernels::kJointBlock) {
     B.n = (int)std::min<std::size_t>(fdem::kernels::kJointBlock, nj - j0);
     GatherJointBlock(d, xl, j0, B);
+    if (!d->jofs.empty()) AddBlockOffsets(d, j0, B);
     for (int b = 0; b < B.n; ++b) {
       const std::size_t j = j0 + b;
       B.law[b] = &d->jlaw[j], B.state[b] = d->jstate[j].data(), B.dissipated[b] = &d->jdiss[j];
@@ -489,10 +604,18 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
     PetscCall(LocalPositions(d, sv.xa, nullptr));
     PetscCall(sv.Restore());
     PetscCall(VecGetArrayRead(d->xloc, &xl));
+    if (d->prestress_pending) PetscCall(PrestressNewJoints(d, xl));
     PetscCall(BringTrianglesB(d, d->jsf, xl));
     for (std::size_t j = 0; j < d->jnode_a.size(); ++j) {
       double xa[3][3], xb[3][3];
       JointTriangles(d, xl, j, xa, xb);
+      if (!d->jofs.empty() && d->jofs[j].any()) {
+        double O[3];
+        OffsetSeparation(d, j, xa, O);
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) xb[i][k] += O[k];
+        loc[0] -= d->jofs[j].energy; // counted from its insertion
+      }
       loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
       loc[1] += d->jdiss[j];
     }
@@ -533,6 +656,7 @@ struct JointRemap {
   const std::vector<JointOrigin> *origin = nullptr;
   PetscInt                        nold   = 0;
   PetscReal                       fresh  = 0;
+  bool                            whole  = false; // per values of the joint, not per / 3 of each point
 };
 static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load, const JointRemap &remap = {}) {
   Vec          nat, mine;
@@ -558,8 +682,8 @@ static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const cha
           const JointOrigin &f = from[j];
           if (f.joint < 0) {
             for (PetscInt i = 0; i < per; ++i) n[per * j + i] = remap.fresh;
-          } else if (per == 1) {
-            n[j] = o[f.joint];
+          } else if (per == 1 || remap.whole) {
+            for (PetscInt i = 0; i < per; ++i) n[per * j + i] = o[per * f.joint + i];
           } else {
             for (int q = 0; q < 3; ++q)
               for (PetscInt i = 0; i < w; ++i) n[per * j + w * q + i] = o[per * f.joint + w * f.point[q] + i];
@@ -634,6 +758,14 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
     for (int q = 0; q < 3; ++q) E[6 * j + 2 * q] = d->jstate[j][q].last_tension, E[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
   PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
+  // the offsets of joints inserted under load: c[3] and the energy counted from; NaN for a joint
+  // inserted by the last load whose offset is still to make (it makes it when loaded)
+  std::vector<PetscReal> O(4 * d->jstate.size(), 0.0);
+  for (std::size_t j = 0; j < d->jstate.size(); ++j) {
+    if (d->prestress_pending && d->jfresh[j]) std::fill(&O[4 * j], &O[4 * j] + 4, NAN);
+    else if (!d->jofs.empty()) std::copy(d->jofs[j].c, d->jofs[j].c + 3, &O[4 * j]), O[4 * j + 3] = d->jofs[j].energy;
+  }
+  PetscCall(JointField(d, viewer, "joint_offset", 4, O.data(), false));
   PetscCall(OnsetField(d, viewer, false));
   PetscFunctionReturn(0);
 }
@@ -657,18 +789,28 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
     }));
     PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
   }
-  if (differs && nold == 0) { // no joint was saved: all start intact, nothing dissipated
+  d->jofs.clear();
+  d->prestress_pending = false;
+  std::fill(d->jfresh.begin(), d->jfresh.end(), 0);
+  if (differs && nold == 0) { // no joint was saved: all start intact (or at their faces' tractions), nothing dissipated
     for (std::size_t j = 0; j < d->jstate.size(); ++j) {
       for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};
-      d->jdiss[j] = 0;
-      d->jgone[j] = 0;
+      d->jdiss[j]  = 0;
+      d->jgone[j]  = 0;
+      d->jfresh[j] = d->prestress;
     }
+    d->prestress_pending = d->prestress;
     PetscCall(OnsetField(d, viewer, true));
     PetscFunctionReturn(0);
   }
   const JointRemap       rm0{differs ? &origin : nullptr, nold, 0.0}, rm1{differs ? &origin : nullptr, nold, -1.0};
-  std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0);
-  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true, rm0));
+  const JointRemap       rmw{differs ? &origin : nullptr, nold, 0.0, true};
+  std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0), O(4 * d->jstate.size(), 0.0);
+  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true, rm1)); // -1: a joint the saved split did not have
+  PetscBool hasoff = PETSC_TRUE, hdf5v;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5v));
+  if (hdf5v) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_offset", &hasoff));
+  if (hasoff) PetscCall(JointField(d, viewer, "joint_offset", 4, O.data(), true, rmw)); // (an earlier fdem's checkpoint has none: no offsets)
   // A checkpoint written before the shear damage was kept has none: the joints' shear then
   // restarts from zero, and their first evaluation raises it to the law's secant, the same
   // tractions as the law without the secant at the positions saved.
@@ -688,8 +830,19 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true, rm0));
   PetscCall(OnsetField(d, viewer, true));
   PetscInt bad = -1;
+  bool     any = false;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
+    // a joint new to this split, or one saved before its offset was made, gets its offset
+    // at the next evaluation (with -fdem_insert_prestress)
+    const bool fresh = D[3 * j] == -1 || std::isnan(O[4 * j]);
+    d->jfresh[j]     = fresh && d->prestress;
+    for (int q = 0; q < 4; ++q) {
+      if (fresh) O[4 * j + q] = 0;
+      if (!std::isfinite(O[4 * j + q]) && bad < 0) bad = d->jgid[j];
+    }
+    any = any || d->jfresh[j] || O[4 * j] != 0 || O[4 * j + 1] != 0 || O[4 * j + 2] != 0;
     for (int q = 0; q < 3; ++q) {
+      if (D[3 * j + q] == -1) D[3 * j + q] = 0;
       const PetscReal v = D[3 * j + q], w = W[3 * j + q];
       if (!(v >= 0 && v <= 1 && w >= 0 && w <= 1) && bad < 0) bad = d->jgid[j];
       d->jstate[j][q].SetDamage(v);
@@ -702,8 +855,16 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
     d->jgone[j] = fdem::kernels::JointBroken(d->jstate[j].data()); // not reported as a break
     if (!(d->jdiss[j] >= 0) && bad < 0) bad = d->jgid[j];
   }
+  if (any) {
+    d->jofs.assign(d->jstate.size(), {});
+    for (std::size_t j = 0; j < d->jstate.size(); ++j) std::copy(&O[4 * j], &O[4 * j] + 3, d->jofs[j].c), d->jofs[j].energy = O[4 * j + 3];
+  }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
-  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1], or a negative dissipated or last energy, in the saved state", bad);
+  PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1], a negative dissipated or last energy, or an offset that is not a finite number, in the saved state", bad);
+  PetscInt pend = 0;
+  for (char f : d->jfresh) pend |= f;
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &pend, 1, MPIU_INT, MPI_MAX, d->comm));
+  d->prestress_pending = pend != 0;
   PetscFunctionReturn(0);
 }
 

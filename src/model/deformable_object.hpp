@@ -52,6 +52,14 @@ struct JointOrigin {
   PetscInt joint    = -1;          // -1: a new joint
   int      point[3] = {0, 1, 2};
 };
+// The separation that a joint inserted into a stressed body starts from (PrestressNewJoints,
+// doc/fracture.md): kept in a frame of its face that both sides agree on (OffsetSeparation), so
+// that it survives a rebuild that swaps triangles a and b.
+struct JointOffset {
+  double c[3]   = {0, 0, 0}; // m: along the frame's e1, e2 and normal
+  double energy = 0;         // J: what the joint stored when it got the offset (counted from there)
+  bool   any() const { return c[0] != 0 || c[1] != 0 || c[2] != 0; }
+};
 } // namespace fdem::model::deformable
 
 struct _n_FDEMDeformable {
@@ -130,6 +138,10 @@ struct _n_FDEMDeformable {
   PetscSF                                 jsf_remote = nullptr; // jsf's leaves of the joints whose triangle b is on another rank only
   std::vector<PetscScalar>                jxb, jfb;       // leaf buffers: b's coordinates, b's forces
   std::vector<PetscInt>                   jcell_a;        // their tetrahedra a: local cells
+  std::vector<fdem::model::deformable::JointOffset> jofs; // their offsets (empty when none has one)
+  std::vector<char>                       jfresh;         // inserted by the last load of a joint state: their offsets are still to make
+  bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start at their face's traction
+  bool                                    prestress_pending = false; // some joint is fresh (the same on every rank)
   std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
   PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
   fdem::model::FractureTopology           topology;       // the last DeformableFractureTopology, for its counts of broken and damaged joints (each set only grows while the joints step)

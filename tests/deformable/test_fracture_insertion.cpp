@@ -18,6 +18,16 @@
 //     a ratio of 1.5, a cell of a body without insertion, a cell outside the mesh.
 //  5. The criterion (StrengthRatio) on random stresses against eigenvalues by Jacobi
 //     rotations, and its test without eigenvalues (SurelyBelow) never wrong.
+//  6. Joints inserted into a stressed body start at their face's traction: the box under a
+//     uniform stretch and shear (sigma_xx = 0.3 f_t, sigma_xy = 0.2 f_t in the rock), a model
+//     that split nothing saved and loaded into A at that state: every copy of an interior node
+//     of the rock has a net force below 1e-6 of a face's load (the continuum's: 0), where the
+//     joints inserted unloaded (-fdem_insert_prestress false) leave more than a tenth of it;
+//     the joints' stored energy, counted from the insertion, is 0 there. A's state (A split
+//     between x = 0.1 and 0.3 here) then loaded into B (A's joints keep their offsets, those at
+//     x = 0.1 with their sides swapped; B's new joints get
+//     theirs): the same; and B's state restarted into a model of the same split gives B's
+//     forces to the bit.
 #include "common.hpp"
 #include "../../src/model/deformable_object.hpp"
 
@@ -45,13 +55,13 @@ fdem::kernels::TetMesh Box() {
   return M;
 }
 
-// The tetrahedra of the rock with centroid x < xmax.
-std::vector<PetscInt> CellsBelow(const fdem::kernels::TetMesh &M, double xmax) {
+// The tetrahedra of the rock with centroid xmin < x < xmax.
+std::vector<PetscInt> CellsBelow(const fdem::kernels::TetMesh &M, double xmax, double xmin = -1) {
   std::vector<PetscInt> c;
   for (size_t e = 0; e < M.tets.size(); ++e) {
     Vec3 s(0, 0, 0);
     for (int a = 0; a < 4; ++a) s = s + 0.25 * M.nodes[M.tets[e][a]];
-    if (s.x < xmax && M.body[e] == 0) c.push_back((PetscInt)e);
+    if (s.x < xmax && s.x > xmin && M.body[e] == 0) c.push_back((PetscInt)e);
   }
   return c;
 }
@@ -117,6 +127,54 @@ PetscErrorCode Save(FDEMDeformable d, const char *file) {
   }
   PetscCall(FDEMDeformableViewJointState(d, v));
   PetscCall(PetscViewerDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+// The uniform deformation of part 6: x = X + (e X + g Y, g X, 0).
+PetscErrorCode Sheared(PetscInt, const PetscReal X[3], PetscReal x[3], void *) {
+  const double e = 3e-4, g = 2e-4; // sigma_xx = E e, sigma_xy = 2 G g = E g with nu = 0
+  x[0] = X[0] + e * X[0] + g * X[1], x[1] = X[1] + g * X[0], x[2] = X[2];
+  return 0;
+}
+
+// Writes d's joint state (and its inserted cells) to file.
+PetscErrorCode SaveJoints(FDEMDeformable d, const char *file) {
+  PetscViewer v;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5Open(d->comm, file, FILE_MODE_WRITE, &v));
+  PetscCall(FDEMDeformableViewJointState(d, v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+// Loads the joint state of file into d, sets d's positions to Sheared, and returns the
+// largest net force on a copy of an interior node of the rock (reference 0 < X < 0.45,
+// 0 < Y, Z < 0.2), the joints' stored energy, and the forces (*F, created).
+PetscErrorCode ShearedForces(FDEMDeformable d, const char *file, PetscReal *fmax, PetscReal *stored, Vec *F) {
+  PetscViewer        v;
+  Vec                X;
+  const PetscScalar *f, *Xa;
+  PetscInt           n;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5Open(d->comm, file, FILE_MODE_READ, &v));
+  PetscCall(FDEMDeformableLoadJointState(d, v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(FDEMDeformableSetPositionField(d, Sheared, nullptr));
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscCall(VecDuplicate(X, F));
+  PetscCall(FDEMDeformableComputeForces(d, 0, nullptr, *F));
+  PetscCall(FDEMDeformableGetJointEnergy(d, nullptr, stored, nullptr));
+  PetscCall(VecGetLocalSize(X, &n));
+  PetscCall(VecGetArrayRead(*F, &f));
+  PetscCall(VecGetArrayRead(X, &Xa));
+  *fmax = 0;
+  for (PetscInt i = 0; i < n; i += 3) {
+    const bool inner = Xa[i] > 0.05 && Xa[i] < 0.45 && Xa[i + 1] > 0.05 && Xa[i + 1] < 0.15 && Xa[i + 2] > 0.05 && Xa[i + 2] < 0.15;
+    if (inner) *fmax = std::max(*fmax, std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]));
+  }
+  PetscCall(VecRestoreArrayRead(X, &Xa));
+  PetscCall(VecRestoreArrayRead(*F, &f));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, fmax, 1, MPIU_REAL, MPI_MAX, d->comm));
   PetscFunctionReturn(0);
 }
 
@@ -327,6 +385,39 @@ int main(int argc, char **argv) {
     CHECK(nwrong == 0, "%" PetscInt_FMT " stresses were said surely below their ratio and are not", nwrong);
     CHECK(nskip > nsmall / 2, "the test without eigenvalues settles %" PetscInt_FMT " stresses; %" PetscInt_FMT " are below half their ratio", nskip, nsmall);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "criterion: ratio within %.2g of the eigenvalues'; %" PetscInt_FMT " of 200000 settled without them (%" PetscInt_FMT " below half their ratio)\n", worst, nskip, nsmall));
+  }
+  // 6. joints inserted under load start at their face's traction
+  {
+    FDEMDeformable Z, A6, B6, Boff, B6b;
+    Vec            FA, FB, Foff, FBb;
+    PetscReal      fA, fB, foff, fBb, eA, eB, eoff, eBb, dmax;
+    const double   load = std::hypot(0.3e6, 0.2e6) * 0.5 * 0.1 * 0.1; // |traction| x a face's area
+    PetscCall(Make(PETSC_COMM_WORLD, {}, 0.5, &Z));
+    PetscCall(SaveJoints(Z, file));
+    // A6 split between x = 0.1 and 0.3: at x = 0.1 the joints' triangle a is on the split side
+    // (the larger ids), which B's split, with both sides split, gives to the other side
+    PetscCall(Make(PETSC_COMM_WORLD, CellsBelow(M, 0.3, 0.1), 0.5, &A6));
+    PetscCall(ShearedForces(A6, file, &fA, &eA, &FA));
+    PetscCall(SaveJoints(A6, file));
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &B6));
+    PetscCall(ShearedForces(B6, file, &fB, &eB, &FB));
+    PetscCall(PetscOptionsSetValue(nullptr, "-fdem_insert_prestress", "false"));
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Boff));
+    PetscCall(PetscOptionsClearValue(nullptr, "-fdem_insert_prestress"));
+    PetscCall(ShearedForces(Boff, file, &foff, &eoff, &Foff));
+    PetscCall(SaveJoints(B6, file));
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &B6b));
+    PetscCall(ShearedForces(B6b, file, &fBb, &eBb, &FBb));
+    PetscCall(VecAXPY(FBb, -1, FB));
+    PetscCall(VecNorm(FBb, NORM_INFINITY, &dmax));
+    const double energy = (0.3e6 * 0.3e6 + 0.2e6 * 0.2e6) / 1e9 * 0.5 * 0.6 * 0.2 * 0.2; // of the strain in the box's volume
+    CHECK(fA < 1e-6 * load && fB < 1e-6 * load, "net force on interior copies with the joints inserted at their faces' tractions: %g N (first insertion), %g N (second), a face's load %g N", fA, fB, load);
+    CHECK(foff > 0.1 * load, "net force on interior copies with the joints inserted unloaded: %g N, a face's load %g N", foff, load);
+    CHECK(std::fabs(eA) < 1e-9 * energy && std::fabs(eB) < 1e-9 * energy, "the joints' stored energy counted from their insertion: %g J and %g J", eA, eB);
+    CHECK(dmax == 0 && eBb == eB, "restarted from B's state: forces %g N apart, stored energy %.17g J against %.17g J", dmax, eBb, eB);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "inserted under load: largest net force on an interior copy %.2g N and %.2g N (unloaded joints: %.3g N; a face's load %.3g N); stored energy from the insertion %.2g J, %.2g J\n", fA, fB, foff, load, eA, eB));
+    for (Vec *w : {&FA, &FB, &Foff, &FBb}) PetscCall(VecDestroy(w));
+    for (FDEMDeformable *w : {&Z, &A6, &B6, &Boff, &B6b}) PetscCall(FDEMDeformableDestroy(w));
   }
   PetscCall(FDEMDeformableDestroy(&A));
   PetscCall(FDEMDeformableDestroy(&B));

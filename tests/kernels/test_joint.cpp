@@ -557,3 +557,41 @@ TEST(Joint, BreakingThroughDissipatesTheCompressionItKept) {
     EXPECT_NEAR(JointRemovedCompression(L, xa, xb), JointElementEnergy(L, xa, xb, two), 1e-6 * kept) << "rule " << rule;
   }
 }
+
+// A joint inserted into a stressed body starts at the separation whose tractions are its
+// face's: the law evaluated there gives back the normal and shear tractions asked for, over
+// tension, compression and shear up to the peaks, and a traction beyond a peak is taken at it.
+TEST(Joint, SeparationForATractionGivesItBack) {
+  const JointLaw L = MakeJointLaw(Mortar(), 0.01);
+  const double   tan_phi = std::tan(30 * M_PI / 180);
+  int            checked = 0;
+  for (double sn : {-5e6, -1e6, -1e3, 0.0, 1e-3, 0.3e6, 0.7e6, 0.999e6}) {
+    const double fs = 3e6 - std::min(sn, 0.0) * tan_phi;
+    for (double share : {0.0, 1e-9, 0.2, 0.6, 0.95}) {
+      const double tau = share * fs;
+      double       dn, s;
+      JointSeparationFor(L, sn, tau, &dn, &s);
+      JointState         st;
+      const JointTraction t = JointTractionAt(L, dn, s, st);
+      EXPECT_NEAR(t.sigma, sn, 1e-9 * 1e6) << "sigma " << sn << " tau " << tau;
+      EXPECT_NEAR(t.tau, tau, 1e-7 * fs) << "sigma " << sn << " tau " << tau; // w is a float
+      EXPECT_EQ(t.D, 0);
+      EXPECT_EQ(t.dissipated == 0, tau == 0); // the secant's step at the first evaluation
+      EXPECT_GE(s, 0);
+      EXPECT_EQ(dn > 0, sn > 0);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 40);
+  // beyond the peaks: at the peaks
+  double dn, s;
+  JointSeparationFor(L, 2e6, 0, &dn, &s);
+  EXPECT_DOUBLE_EQ(dn, L.dn_peak);
+  JointSeparationFor(L, 0, 7e6, &dn, &s);
+  double sp;
+  JointSlipLimits(L, 0, &sp, nullptr);
+  EXPECT_DOUBLE_EQ(s, sp);
+  // small tractions keep their relative accuracy (no cancellation in the branch's inverse)
+  JointSeparationFor(L, 1e-6, 0, &dn, &s);
+  EXPECT_NEAR(dn, 0.5 * 1e-12 * L.dn_peak, 1e-12 * 1e-12 * L.dn_peak);
+}

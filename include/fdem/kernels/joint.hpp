@@ -132,6 +132,13 @@ double JointStoredEnergy(const JointLaw &law, double dn, double s, const JointSt
 // s_peak = 2 h f_s / p; the softening span s_crit - s_peak is that of pure shear.
 void JointSlipLimits(const JointLaw &law, double sigma, double *s_peak, double *s_crit);
 
+// The opening dn0 and slip s0 >= 0 at which an intact joint carries the normal traction sigma
+// (Pa, tension > 0) and the shear traction tau >= 0 on its hardening branch: where a joint
+// inserted into a stressed body starts, so that it takes over the traction its face carried
+// (doc/fracture.md, "Joints inserted during a run"). A traction at or beyond a peak (sigma >=
+// f_t, tau >= f_s(sigma)) is taken at that peak; tau is 0 where f_s is 0.
+void JointSeparationFor(const JointLaw &law, double sigma, double tau, double *dn0, double *s0);
+
 } // namespace fdem::kernels
 
 namespace fdem::kernels {
