@@ -76,6 +76,7 @@ PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscRe
   if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));
   for (const auto &e : d->ext) PetscCall(e.first(d, t, d->xloc, vo ? d->vloc : nullptr, d->floc, e.second));
+  if (d->equilibrate_pending) PetscCall(EquilibrateNewJoints(d)); // joints inserted under load: balanced with every force on the copies
   if (inplace) PetscFunctionReturn(0); // the sums are in fo already
   PetscCall(VecPlaceArray(d->gwork, fo));
   PetscCall(VecSet(d->gwork, 0));

@@ -16,8 +16,10 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <unordered_map>
 
@@ -425,47 +427,113 @@ static void GatherJointBlock(FDEMDeformable d, const PetscScalar *xl, std::size_
 }
 
 // The frame of joint j's offset at triangle a's current nodes xa: E[0] = e1, E[1] = e2, E[2] =
-// n, times the sign of the side. Both sides of a face agree on it: its corners taken in the
-// order of their input nodes, e1 along the first edge, n the unit normal, e2 = n x e1; and the
-// offset is kept as the separation of the side of the larger tetrahedron id from the other, so
-// that it survives a rebuild that swaps triangles a and b.
-static void OffsetFrame(FDEMDeformable d, std::size_t j, const double xa[3][3], double E[3][3]) {
+// n, times the sign of the side, and the face's nodes in the order of their input nodes (ord).
+// Both sides of a face agree on them: e1 along the first edge of that order, n the unit normal,
+// e2 = n x e1; and the offset is kept as the separation of the side of the larger tetrahedron id
+// from the other, so that it survives a rebuild that swaps triangles a and b. A collapsed
+// triangle (which carries nothing) gets a zero frame: no offset rather than NaN.
+static void OffsetFrame(FDEMDeformable d, std::size_t j, const double xa[3][3], double E[3][3], int ord[3]) {
   const std::array<int, 3> &na = d->jnode_a[j];
-  int                       i0 = 0, i1 = 1, i2 = 2; // sorted by input node
+  int                       i0 = 0, i1 = 1, i2 = 2;
   auto                      in = [&](int i) { return d->local_input[na[i]]; };
   if (in(i1) < in(i0)) std::swap(i0, i1);
   if (in(i2) < in(i1)) std::swap(i1, i2);
   if (in(i1) < in(i0)) std::swap(i0, i1);
+  ord[0] = i0, ord[1] = i1, ord[2] = i2;
   double *u = E[0], *e2 = E[1], *n = E[2], v[3];
   for (int k = 0; k < 3; ++k) u[k] = xa[i1][k] - xa[i0][k], v[k] = xa[i2][k] - xa[i0][k];
   n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
   const double sign = d->cell_gid[d->jcell_a[j]] < d->jtet_b[j][0] ? 1.0 : -1.0;
   const double lu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(lu > 0 && ln > 0)) {
+    for (int r = 0; r < 3; ++r) E[r][0] = E[r][1] = E[r][2] = 0;
+    return;
+  }
   for (int k = 0; k < 3; ++k) u[k] /= lu, n[k] /= ln;
   e2[0] = n[1] * u[2] - n[2] * u[1], e2[1] = n[2] * u[0] - n[0] * u[2], e2[2] = n[0] * u[1] - n[1] * u[0];
-  for (int a = 0; a < 3; ++a)
-    for (int k = 0; k < 3; ++k) E[a][k] *= sign;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) E[r][k] *= sign;
 }
 
-// The separation (b - a) that joint j's offset adds, at triangle a's current nodes xa.
-static void OffsetSeparation(FDEMDeformable d, std::size_t j, const double xa[3][3], double O[3]) {
-  const double *c = d->jofs[j].c;
-  double        E[3][3];
-  OffsetFrame(d, j, xa, E);
-  for (int k = 0; k < 3; ++k) O[k] = c[0] * E[0][k] + c[1] * E[1][k] + c[2] * E[2][k];
+// The separation (b - a) that joint j's offset adds at node i of triangle a (O[i]), at triangle
+// a's current nodes xa.
+static void OffsetSeparation(FDEMDeformable d, std::size_t j, const double xa[3][3], double O[3][3]) {
+  const auto &c = d->jofs[j].c;
+  double      E[3][3];
+  int         ord[3];
+  OffsetFrame(d, j, xa, E, ord);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) O[ord[r]][k] = c[r][0] * E[0][k] + c[r][1] * E[1][k] + c[r][2] * E[2][k];
 }
 
-// Adds the offsets of the block's joints (from j0) to their triangles b.
+// Sets joint j's offset to the separations O[i] at the nodes of triangle a (the inverse of
+// OffsetSeparation at these positions).
+static void SetOffset(FDEMDeformable d, std::size_t j, const double xa[3][3], const double O[3][3]) {
+  double E[3][3];
+  int    ord[3];
+  OffsetFrame(d, j, xa, E, ord);
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) d->jofs[j].c[r][a] = E[a][0] * O[ord[r]][0] + E[a][1] * O[ord[r]][1] + E[a][2] * O[ord[r]][2];
+}
+
+// Triangles a and b of a joint with the offsets O (b - a) at its nodes, as its law sees them:
+// a moved by -O/2 and b by +O/2, so that the separation grows by O and the mid-surface (whose
+// normal and area the law takes) stays where the two triangles put it, whichever side is a.
+static void ApplyOffset(const double O[3][3], double xa[3][3], double xb[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) xa[i][k] -= 0.5 * O[i][k], xb[i][k] += 0.5 * O[i][k];
+}
+
+// Adds the offsets of the block's joints (from j0) to their triangles (ApplyOffset).
 static void AddBlockOffsets(FDEMDeformable d, std::size_t j0, fdem::kernels::JointBlock &B) {
   for (int b = 0; b < B.n; ++b) {
     if (!d->jofs[j0 + b].any()) continue;
-    double xa[3][3], O[3];
+    double xa[3][3], O[3][3];
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) xa[i][k] = B.xa[3 * i + k][b];
     OffsetSeparation(d, j0 + b, xa, O);
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) B.xb[3 * i + k][b] += O[k];
+      for (int k = 0; k < 3; ++k) B.xa[3 * i + k][b] -= 0.5 * O[i][k], B.xb[3 * i + k][b] += 0.5 * O[i][k];
   }
+}
+
+// The unit normal of triangle a (towards b) and its area; false where it has collapsed.
+static bool TriangleNormal(const double xa[3][3], double n[3], double *area) {
+  const double u[3] = {xa[1][0] - xa[0][0], xa[1][1] - xa[0][1], xa[1][2] - xa[0][2]}, v[3] = {xa[2][0] - xa[0][0], xa[2][1] - xa[0][1], xa[2][2] - xa[0][2]};
+  n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+  const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(ln > 0)) return false;
+  for (int k = 0; k < 3; ++k) n[k] /= ln;
+  *area = 0.5 * ln;
+  return true;
+}
+
+// The separation at which joint j's law carries the traction t (on triangle a, normal n): the
+// opening along n and the slip along t's tangential part (JointSeparationFor).
+static void SeparationForTraction(const JointLaw &law, const double n[3], const double t[3], double o[3]) {
+  const double sn    = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+  const double tt[3] = {t[0] - sn * n[0], t[1] - sn * n[1], t[2] - sn * n[2]};
+  const double tau   = std::sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]);
+  double       dn0, s0;
+  fdem::kernels::JointSeparationFor(law, sn, tau, &dn0, &s0);
+  for (int k = 0; k < 3; ++k) o[k] = dn0 * n[k] + (tau > 0 ? s0 / tau * tt[k] : 0.0);
+}
+
+// Joint j with the separations o[q] at its three points (the edge midpoints; node offsets O[i]
+// with o[q] = (O[q] + O[q+1]) / 2): the node offsets, fresh point histories evaluated there (the
+// shear's secant), and the energy it stores at zero separation, where its stored energy is
+// counted from.
+static void StartJointAt(FDEMDeformable d, std::size_t j, const double xa[3][3], const double o[3][3]) {
+  double O[3][3], ya[3][3], yb[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) O[i][k] = o[i][k] - o[(i + 1) % 3][k] + o[(i + 2) % 3][k], ya[i][k] = yb[i][k] = xa[i][k];
+  ApplyOffset(O, ya, yb);
+  // the points' histories from a first evaluation at these positions (the kernel's own geometry)
+  for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};
+  double fa[3][3] = {}, fb[3][3] = {};
+  (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, d->jstate[j].data(), fa, fb);
+  SetOffset(d, j, xa, O);
+  d->jofs[j].energy = fdem::kernels::JointElementEnergy(d->jlaw[j], ya, yb, d->jstate[j].data());
 }
 
 // Gives each joint inserted by the last load of a joint state (d->jfresh) the separation at
@@ -495,39 +563,301 @@ static PetscErrorCode PrestressNewJoints(FDEMDeformable d, const PetscScalar *xl
   PetscCall(PetscSFBcastEnd(sf, MPIU_REAL, S.data(), Sb.data(), MPI_REPLACE));
   PetscCall(PetscSFDestroy(&sf));
   if (d->jofs.size() != nj) d->jofs.assign(nj, {});
+  d->jequil.assign(nj, 0);
+  PetscInt any = 0;
   for (std::size_t j = 0; j < nj; ++j) {
     if (!d->jfresh[j]) continue;
-    double xa[3][3], n[3], T[6];
+    d->jfresh[j] = 0;
+    double xa[3][3], n[3], T[6], area;
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
-    const double u[3] = {xa[1][0] - xa[0][0], xa[1][1] - xa[0][1], xa[1][2] - xa[0][2]}, v[3] = {xa[2][0] - xa[0][0], xa[2][1] - xa[0][1], xa[2][2] - xa[0][2]};
-    n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
-    const double ln = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     for (int k = 0; k < 6; ++k) T[k] = 0.5 * (S[6 * d->jcell_a[j] + k] + Sb[6 * j + k]);
-    bool finite = ln > 0;
+    bool finite = TriangleNormal(xa, n, &area);
     for (int k = 0; k < 6; ++k) finite = finite && std::isfinite(T[k]);
-    if (!finite) continue; // an inverted tetrahedron: the joint starts intact, as without the option
-    for (int k = 0; k < 3; ++k) n[k] /= ln;
-    // the traction on triangle a (outward normal n, towards b): T n; its normal part and the rest
-    const double t[3]  = {T[0] * n[0] + T[3] * n[1] + T[5] * n[2], T[3] * n[0] + T[1] * n[1] + T[4] * n[2], T[5] * n[0] + T[4] * n[1] + T[2] * n[2]};
-    const double sn    = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
-    const double tt[3] = {t[0] - sn * n[0], t[1] - sn * n[1], t[2] - sn * n[2]};
-    const double tau   = std::sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]);
-    double       dn0, s0, O[3], xb[3][3];
-    fdem::kernels::JointSeparationFor(d->jlaw[j], sn, tau, &dn0, &s0);
-    for (int k = 0; k < 3; ++k) O[k] = dn0 * n[k] + (tau > 0 ? s0 / tau * tt[k] : 0.0);
-    for (int q = 0; q < 3; ++q) {
-      d->jstate[j][q] = fdem::kernels::JointState{};
-      (void)fdem::kernels::JointTractionAt(d->jlaw[j], dn0, s0, d->jstate[j][q]);
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) xb[i][k] = xa[i][k] + O[k];
-    double E[3][3];
-    OffsetFrame(d, j, xa, E);
-    for (int a = 0; a < 3; ++a) d->jofs[j].c[a] = E[a][0] * O[0] + E[a][1] * O[1] + E[a][2] * O[2];
-    d->jofs[j].energy = fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
-    d->jfresh[j]      = 0;
+    if (!finite) continue; // an inverted tetrahedron: the joint starts unloaded
+    // the traction on triangle a (outward normal n, towards b): T n, the same at the three points
+    const double t[3] = {T[0] * n[0] + T[3] * n[1] + T[5] * n[2], T[3] * n[0] + T[1] * n[1] + T[4] * n[2], T[5] * n[0] + T[4] * n[1] + T[2] * n[2]};
+    double       o[3][3];
+    for (int q = 0; q < 3; ++q) SeparationForTraction(d->jlaw[j], n, t, o[q]);
+    StartJointAt(d, j, xa, o);
+    d->jequil[j] = !d->saved_node.empty();
+    any          = any || d->jequil[j];
   }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, d->comm));
+  d->equilibrate_pending = any != 0;
+  PetscFunctionReturn(0);
+}
+
+// Sends records of `per` doubles to the ranks in dest (out[r]), gets those sent here (in) and
+// the rank each came from (from). Collective.
+static PetscErrorCode Exchange(MPI_Comm comm, int per, const std::vector<std::vector<double>> &out, std::vector<double> &in, std::vector<int> &from) {
+  const int                size = (int)out.size();
+  std::vector<PetscMPIInt> sc(size), rc(size), sd(size, 0), rd(size, 0);
+  std::vector<double>      buf;
+  PetscFunctionBegin;
+  for (int r = 0; r < size; ++r) {
+    sc[r] = (PetscMPIInt)out[r].size();
+    if (r) sd[r] = sd[r - 1] + sc[r - 1];
+    buf.insert(buf.end(), out[r].begin(), out[r].end());
+  }
+  PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm));
+  for (int r = 1; r < size; ++r) rd[r] = rd[r - 1] + rc[r - 1];
+  in.resize(rd[size - 1] + rc[size - 1]);
+  PetscCallMPI(MPI_Alltoallv(buf.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm));
+  from.clear();
+  for (int r = 0; r < size; ++r)
+    for (int k = 0; k < rc[r] / per; ++k) from.push_back(r);
+  PetscFunctionReturn(0);
+}
+
+// The potentials phi (n x 3) of L phi = e on a graph of n vertices and its edges (pairs), L the
+// graph Laplacian: one vertex of each connected part held at 0 (its equation dropped: the part's
+// e sum to 0), an isolated vertex 0. Gaussian elimination on the rest (n is the number of copies
+// of one node: a few tens).
+static void GraphPotentials(int n, const std::vector<std::pair<int, int>> &edges, const std::vector<double> &e, std::vector<double> &phi) {
+  std::vector<int> part(n);
+  for (int v = 0; v < n; ++v) part[v] = v;
+  std::function<int(int)> root = [&](int v) { return part[v] == v ? v : part[v] = root(part[v]); };
+  for (const auto &[a, b] : edges) part[root(a)] = root(b);
+  std::vector<int> idx(n, -1);
+  int              m = 0;
+  for (int v = 0; v < n; ++v)
+    if (root(v) != v) idx[v] = m++; // each part's root is held at 0
+  phi.assign(3 * (size_t)n, 0.0);
+  if (m == 0) return;
+  std::vector<double> A((size_t)m * m, 0.0), B(3 * (size_t)m, 0.0);
+  for (const auto &[a, b] : edges) {
+    const int ia = idx[a], ib = idx[b];
+    if (ia >= 0) A[(size_t)ia * m + ia] += 1;
+    if (ib >= 0) A[(size_t)ib * m + ib] += 1;
+    if (ia >= 0 && ib >= 0) A[(size_t)ia * m + ib] -= 1, A[(size_t)ib * m + ia] -= 1;
+  }
+  for (int v = 0; v < n; ++v)
+    if (idx[v] >= 0)
+      for (int k = 0; k < 3; ++k) B[3 * (size_t)idx[v] + k] = e[3 * (size_t)v + k];
+  for (int c = 0; c < m; ++c) { // symmetric positive definite once grounded: no pivoting needed
+    const double p = A[(size_t)c * m + c];
+    for (int r = c + 1; r < m; ++r) {
+      const double f = A[(size_t)r * m + c] / p;
+      if (f == 0) continue;
+      for (int k = c; k < m; ++k) A[(size_t)r * m + k] -= f * A[(size_t)c * m + k];
+      for (int k = 0; k < 3; ++k) B[3 * (size_t)r + k] -= f * B[3 * (size_t)c + k];
+    }
+  }
+  for (int c = m - 1; c >= 0; --c)
+    for (int k = 0; k < 3; ++k) {
+      double s = B[3 * (size_t)c + k];
+      for (int r = c + 1; r < m; ++r) s -= A[(size_t)c * m + r] * B[3 * (size_t)r + k];
+      B[3 * (size_t)c + k] = s / A[(size_t)c * m + c];
+    }
+  for (int v = 0; v < n; ++v)
+    if (idx[v] >= 0)
+      for (int k = 0; k < 3; ++k) phi[3 * (size_t)v + k] = B[3 * (size_t)idx[v] + k];
+}
+
+// Joints inserted under load (PrestressNewJoints) start at the mean of their two sides'
+// tractions; where the stress jumps from one tetrahedron to the next, each copy of a node is
+// then left a part of the jump, and rings. Here, at the first evaluation after the insertion,
+// with every force of the evaluation on the copies (the elements, the joints, the contact and
+// the other hooks): the copies of each node of the saved split (their group) should accelerate
+// as that node did, F_c = m_c R / M (R, M the group's force and mass); the new joints' forces
+// at the group's node are shifted by the flows of the graph Laplacian (copies as vertices, new
+// joints as edges) that take each copy's residual F_c - m_c R / M away. Each joint's forces at
+// its three nodes then give the tractions at its three points, and its points start at the
+// separations whose law gives them (the node offsets of StartJointAt). The change of the joints'
+// forces is added to this evaluation's local forces. A group with a fixed or moved copy is left
+// as it is. Collective.
+PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
+  const int         size = d->size;
+  const std::size_t nj   = d->jnode_a.size();
+  PetscFunctionBegin;
+  d->equilibrate_pending = false;
+  // the ids of triangle b's nodes (for the edges of the groups' graphs)
+  std::vector<PetscInt> bid(9 * nj, -1), gid3(3 * (size_t)d->nlocal);
+  for (PetscInt l = 0; l < d->nlocal; ++l) gid3[3 * l] = gid3[3 * l + 1] = gid3[3 * l + 2] = d->node_gid[l];
+  PetscCall(PetscSFBcastBegin(d->jsf, MPIU_INT, gid3.data(), bid.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(d->jsf, MPIU_INT, gid3.data(), bid.data(), MPI_REPLACE));
+  // A joint whose forces cannot be brought to its share (the face rule of the compression, which
+  // takes over where its vertices are pressed in and open, answers otherwise than its points'
+  // law; or a traction beyond a peak) keeps its forces and leaves the flow to the others: a
+  // few rounds, each with the forces the last one left.
+  for (int round = 0; round < 3; ++round) {
+    // 1. each owned node's force over all ranks, and its mass
+    std::vector<double> F(3 * (size_t)d->nown);
+    {
+      const PetscScalar *f;
+      if (d->local_is_owned) {
+        PetscCall(VecGetArrayRead(d->floc, &f));
+        for (PetscInt i = 0; i < 3 * d->nown; ++i) F[i] = PetscRealPart(f[i]);
+        PetscCall(VecRestoreArrayRead(d->floc, &f));
+      } else {
+        Vec G;
+        PetscCall(VecDuplicate(d->x, &G));
+        PetscCall(VecSet(G, 0));
+        PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, G));
+        PetscCall(DMLocalToGlobalEnd(d->dm, d->floc, ADD_VALUES, G));
+        PetscCall(VecGetArrayRead(G, &f));
+        for (PetscInt i = 0; i < 3 * d->nown; ++i) F[i] = PetscRealPart(f[i]);
+        PetscCall(VecRestoreArrayRead(G, &f));
+        PetscCall(VecDestroy(&G));
+      }
+    }
+    // 2. to the rank of each group (its saved node modulo the ranks): the copies (group, id, F,
+    //    m, fixed) and the adjustable joints' edges at the group's node (group, a's id, b's id,
+    //    joint, slot); a joint that keeps its forces: (group, a's id, b's id, -1, -1)
+    std::vector<std::vector<double>> cout(size), eout(size);
+    {
+      const PetscScalar *m;
+      PetscCall(VecGetArrayRead(d->m, &m));
+      for (PetscInt k = 0; k < d->nown; ++k) {
+        const PetscInt g = d->saved_node[d->owned_local[k]];
+        auto          &o = cout[g % size];
+        o.insert(o.end(), {(double)g, (double)d->owned_gid[k], F[3 * k], F[3 * k + 1], F[3 * k + 2], PetscRealPart(m[3 * k]), (double)d->fixed[k]});
+      }
+      PetscCall(VecRestoreArrayRead(d->m, &m));
+    }
+    for (std::size_t j = 0; j < nj; ++j) {
+      if (!d->jequil[j]) continue;
+      for (int i = 0; i < 3; ++i) {
+        const PetscInt la = d->jnode_a[j][i], g = d->saved_node[la];
+        auto          &o = eout[g % size];
+        o.insert(o.end(), {(double)g, (double)d->node_gid[la], (double)bid[9 * j + 3 * i], (double)j, (double)i});
+      }
+    }
+    std::vector<double> cin, ein;
+    std::vector<int>    cfrom, efrom;
+    PetscCall(Exchange(d->comm, 7, cout, cin, cfrom));
+    PetscCall(Exchange(d->comm, 5, eout, ein, efrom));
+    // 3. each group's potentials, and the flows back to the joints' ranks (joint, slot, dF)
+    struct Group {
+      std::vector<std::size_t> copies, edges; // records in cin, ein
+    };
+    std::unordered_map<PetscInt, Group> groups;
+    for (std::size_t r = 0; r < cin.size() / 7; ++r) groups[(PetscInt)cin[7 * r]].copies.push_back(r);
+    for (std::size_t r = 0; r < ein.size() / 5; ++r) groups[(PetscInt)ein[5 * r]].edges.push_back(r);
+    std::vector<std::vector<double>> rout(size);
+    for (const auto &[g, G] : groups) {
+      if (G.edges.empty()) continue;
+      std::unordered_map<PetscInt, int> vertex;
+      double                            R[3] = {0, 0, 0}, M = 0;
+      bool                              known = true;
+      for (std::size_t r : G.copies) {
+        const double *c = &cin[7 * r];
+        const int     v = (int)vertex.size();
+        vertex[(PetscInt)c[1]] = v;
+        for (int k = 0; k < 3; ++k) R[k] += c[2 + k];
+        M += c[5];
+        known = known && c[6] == 0; // (a fixed or moved node: left as it is)
+      }
+      std::vector<std::pair<int, int>> edges;
+      for (std::size_t r : G.edges) {
+        const auto a = vertex.find((PetscInt)ein[5 * r + 1]), b = vertex.find((PetscInt)ein[5 * r + 2]);
+        known = known && a != vertex.end() && b != vertex.end();
+        if (known) edges.push_back({a->second, b->second});
+      }
+      if (!known || !(M > 0)) continue;
+      const int           n = (int)vertex.size();
+      std::vector<double> e(3 * (size_t)n), phi;
+      for (std::size_t r : G.copies) {
+        const double *c = &cin[7 * r];
+        const int     v = vertex[(PetscInt)c[1]];
+        for (int k = 0; k < 3; ++k) e[3 * (size_t)v + k] = c[2 + k] - c[5] * R[k] / M;
+      }
+      GraphPotentials(n, edges, e, phi);
+      for (std::size_t q = 0; q < G.edges.size(); ++q) {
+        const std::size_t r = G.edges[q];
+        const auto [a, b]   = edges[q];
+        auto &o             = rout[efrom[r]];
+        o.insert(o.end(), {ein[5 * r + 3], ein[5 * r + 4], phi[3 * (size_t)b] - phi[3 * (size_t)a], phi[3 * (size_t)b + 1] - phi[3 * (size_t)a + 1], phi[3 * (size_t)b + 2] - phi[3 * (size_t)a + 2]});
+      }
+    }
+    std::vector<double> rin;
+    std::vector<int>    rfrom;
+    PetscCall(Exchange(d->comm, 5, rout, rin, rfrom));
+    // 4. each joint's new forces at its nodes -> its points' tractions -> their separations; the
+    //    change of its forces into this evaluation's local forces (b's through the SF)
+    std::vector<double> dF(9 * nj, 0.0), fbuf(9 * nj, 0.0);
+    std::vector<char>   got(nj, 0);
+    for (std::size_t r = 0; r < rin.size() / 5; ++r) {
+      const std::size_t j = (std::size_t)rin[5 * r];
+      const int         i = (int)rin[5 * r + 1];
+      for (int k = 0; k < 3; ++k) dF[9 * j + 3 * i + k] = rin[5 * r + 2 + k];
+      got[j] = 1;
+    }
+    const PetscScalar *xl;
+    PetscScalar       *fl;
+    PetscInt           failed = 0;
+    PetscCall(VecGetArrayRead(d->xloc, &xl));
+    PetscCall(VecGetArray(d->floc, &fl));
+    for (std::size_t j = 0; j < nj; ++j) {
+      if (!d->jequil[j]) continue;
+      // (the copies of a and b coincide at this first evaluation: the joint's separation is its offset)
+      double xa[3][3], ya[3][3], yb[3][3], O[3][3], n[3], area, o[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
+      if (!got[j] || !TriangleNormal(xa, n, &area)) {
+        d->jequil[j] = 0;
+        continue;
+      }
+      auto shifted = [&]() {
+        OffsetSeparation(d, j, xa, O);
+        std::copy(&xa[0][0], &xa[0][0] + 9, &ya[0][0]);
+        std::copy(&xa[0][0], &xa[0][0] + 9, &yb[0][0]);
+        ApplyOffset(O, ya, yb);
+      };
+      shifted();
+      const std::array<fdem::kernels::JointState, 3> st0  = d->jstate[j];
+      const JointOffset                              ofs0 = d->jofs[j];
+      std::array<fdem::kernels::JointState, 3>       st   = st0;
+      double                                         f0[3][3] = {}, f1[3][3] = {}, fb[3][3] = {};
+      (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, st.data(), f0, fb);
+      // the nodes' forces Fn -> the points' forces (node i gets half of points i and i - 1:
+      // point q's is F_q + F_{q+1} - F_{q+2}) -> the points' tractions -> their separations;
+      // then again with what the kernel gives there, which weighs the points by the
+      // mid-surface's area and takes its normal
+      double Fn[3][3], t[3][3], w = area / 3, big = 0, miss = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) Fn[i][k] = f0[i][k] + dF[9 * j + 3 * i + k], big = std::max({big, std::fabs(Fn[i][k]), std::fabs(f0[i][k])});
+      for (int q = 0; q < 3; ++q)
+        for (int k = 0; k < 3; ++k) t[q][k] = (Fn[q][k] + Fn[(q + 1) % 3][k] - Fn[(q + 2) % 3][k]) / w;
+      for (int pass = 0; pass < 6; ++pass) {
+        for (int q = 0; q < 3; ++q) SeparationForTraction(d->jlaw[j], n, t[q], o[q]);
+        StartJointAt(d, j, xa, o);
+        shifted();
+        st = d->jstate[j];
+        std::fill(&f1[0][0], &f1[0][0] + 9, 0.0);
+        std::fill(&fb[0][0], &fb[0][0] + 9, 0.0);
+        (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, st.data(), f1, fb);
+        miss = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) miss = std::max(miss, std::fabs(Fn[i][k] - f1[i][k]));
+        if (miss <= 1e-9 * big) break;
+        for (int q = 0; q < 3; ++q)
+          for (int k = 0; k < 3; ++k) t[q][k] += ((Fn[q][k] - f1[q][k]) + (Fn[(q + 1) % 3][k] - f1[(q + 1) % 3][k]) - (Fn[(q + 2) % 3][k] - f1[(q + 2) % 3][k])) / w;
+      }
+      if (!(miss <= 1e-6 * big)) { // not reached: the joint keeps the forces it had
+        d->jstate[j] = st0;
+        d->jofs[j]   = ofs0;
+        d->jequil[j] = 0;
+        ++failed;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          fl[3 * d->jnode_a[j][i] + k] += f1[i][k] - f0[i][k];
+          fbuf[9 * j + 3 * i + k] = f0[i][k] - f1[i][k];
+        }
+    }
+    PetscCall(VecRestoreArray(d->floc, &fl));
+    PetscCall(VecRestoreArrayRead(d->xloc, &xl));
+    PetscCall(VecGetArray(d->floc, &fl));
+    PetscCall(PetscSFReduceBegin(d->jsf, MPIU_SCALAR, fbuf.data(), fl, MPIU_SUM));
+    PetscCall(PetscSFReduceEnd(d->jsf, MPIU_SCALAR, fbuf.data(), fl, MPIU_SUM));
+    PetscCall(VecRestoreArray(d->floc, &fl));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &failed, 1, MPIU_INT, MPI_SUM, d->comm));
+    if (failed == 0) break;
+  }
+  std::fill(d->jequil.begin(), d->jequil.end(), 0);
   PetscFunctionReturn(0);
 }
 
@@ -610,10 +940,9 @@ PetscErrorCode FDEMDeformableGetJointEnergy(FDEMDeformable d, Vec U, PetscReal *
       double xa[3][3], xb[3][3];
       JointTriangles(d, xl, j, xa, xb);
       if (!d->jofs.empty() && d->jofs[j].any()) {
-        double O[3];
+        double O[3][3];
         OffsetSeparation(d, j, xa, O);
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) xb[i][k] += O[k];
+        ApplyOffset(O, xa, xb);
         loc[0] -= d->jofs[j].energy; // counted from its insertion
       }
       loc[0] += fdem::kernels::JointElementEnergy(d->jlaw[j], xa, xb, d->jstate[j].data());
@@ -658,6 +987,7 @@ struct JointRemap {
   PetscReal                       fresh  = 0;
   bool                            whole  = false; // per values of the joint, not per / 3 of each point
 };
+constexpr int kOffsetValues = 10; // a joint's offset in checkpoints: JointOffset::c, then its energy
 static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load, const JointRemap &remap = {}) {
   Vec          nat, mine;
   VecScatter   sc;
@@ -758,15 +1088,55 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
     for (int q = 0; q < 3; ++q) E[6 * j + 2 * q] = d->jstate[j][q].last_tension, E[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
   PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
-  // the offsets of joints inserted under load: c[3] and the energy counted from; NaN for a joint
-  // inserted by the last load whose offset is still to make (it makes it when loaded)
-  std::vector<PetscReal> O(4 * d->jstate.size(), 0.0);
+  // the offsets of joints inserted under load: c[3][3] and the energy counted from; NaN for a
+  // joint inserted by the last load whose offset is still to make (it makes it when loaded)
+  std::vector<PetscReal> O(kOffsetValues * d->jstate.size(), 0.0);
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
-    if (d->prestress_pending && d->jfresh[j]) std::fill(&O[4 * j], &O[4 * j] + 4, NAN);
-    else if (!d->jofs.empty()) std::copy(d->jofs[j].c, d->jofs[j].c + 3, &O[4 * j]), O[4 * j + 3] = d->jofs[j].energy;
+    PetscReal *o = &O[kOffsetValues * j];
+    if (d->prestress_pending && d->jfresh[j]) std::fill(o, o + kOffsetValues, NAN);
+    else if (!d->jofs.empty()) std::copy(&d->jofs[j].c[0][0], &d->jofs[j].c[0][0] + 9, o), o[9] = d->jofs[j].energy;
   }
-  PetscCall(JointField(d, viewer, "joint_offset", 4, O.data(), false));
+  PetscCall(JointField(d, viewer, "joint_offset", kOffsetValues, O.data(), false));
   PetscCall(OnsetField(d, viewer, false));
+  PetscFunctionReturn(0);
+}
+
+// d->saved_node: the node of the split `old` (the saved one) that each local node came from
+// (NodeOrigins, on rank 0), for EquilibrateNewJoints. Collective.
+static PetscErrorCode SavedNodes(FDEMDeformable d, const std::vector<PetscInt> &old) {
+  std::vector<PetscInt> from;
+  PetscInt              nold = 0;
+  Vec                   nat, mine;
+  VecScatter            sc;
+  IS                    is;
+  PetscFunctionBegin;
+  PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
+    if (d->rank == 0) NodeOrigins(d, old, from, &nold);
+    return 0;
+  }));
+  PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, d->nnodes_global, &nat));
+  if (d->rank == 0) {
+    std::vector<PetscInt>    ids(from.size());
+    std::vector<PetscScalar> vals(from.size());
+    for (std::size_t i = 0; i < from.size(); ++i) ids[i] = (PetscInt)i, vals[i] = (PetscScalar)from[i];
+    PetscCall(VecSetValues(nat, (PetscInt)ids.size(), ids.data(), vals.data(), INSERT_VALUES));
+  }
+  PetscCall(VecAssemblyBegin(nat));
+  PetscCall(VecAssemblyEnd(nat));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, d->nlocal, &mine));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, d->nlocal, d->node_gid.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecScatterCreate(nat, is, mine, nullptr, &sc));
+  PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar *a;
+  PetscCall(VecGetArrayRead(mine, &a));
+  d->saved_node.resize(d->nlocal);
+  for (PetscInt l = 0; l < d->nlocal; ++l) d->saved_node[l] = (PetscInt)PetscRealPart(a[l]);
+  PetscCall(VecRestoreArrayRead(mine, &a));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(ISDestroy(&is));
+  PetscCall(VecDestroy(&mine));
+  PetscCall(VecDestroy(&nat));
   PetscFunctionReturn(0);
 }
 
@@ -790,8 +1160,10 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
     PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
   }
   d->jofs.clear();
-  d->prestress_pending = false;
+  d->prestress_pending = d->equilibrate_pending = false;
   std::fill(d->jfresh.begin(), d->jfresh.end(), 0);
+  d->saved_node.clear();
+  if (differs && d->prestress) PetscCall(SavedNodes(d, old));
   if (differs && nold == 0) { // no joint was saved: all start intact (or at their faces' tractions), nothing dissipated
     for (std::size_t j = 0; j < d->jstate.size(); ++j) {
       for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};
@@ -805,12 +1177,12 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   }
   const JointRemap       rm0{differs ? &origin : nullptr, nold, 0.0}, rm1{differs ? &origin : nullptr, nold, -1.0};
   const JointRemap       rmw{differs ? &origin : nullptr, nold, 0.0, true};
-  std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0), O(4 * d->jstate.size(), 0.0);
+  std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0), O(kOffsetValues * d->jstate.size(), 0.0);
   PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true, rm1)); // -1: a joint the saved split did not have
   PetscBool hasoff = PETSC_TRUE, hdf5v;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5v));
   if (hdf5v) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_offset", &hasoff));
-  if (hasoff) PetscCall(JointField(d, viewer, "joint_offset", 4, O.data(), true, rmw)); // (an earlier fdem's checkpoint has none: no offsets)
+  if (hasoff) PetscCall(JointField(d, viewer, "joint_offset", kOffsetValues, O.data(), true, rmw)); // (an earlier fdem's checkpoint has none: no offsets)
   // A checkpoint written before the shear damage was kept has none: the joints' shear then
   // restarts from zero, and their first evaluation raises it to the law's secant, the same
   // tractions as the law without the secant at the positions saved.
@@ -834,13 +1206,15 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     // a joint new to this split, or one saved before its offset was made, gets its offset
     // at the next evaluation (with -fdem_insert_prestress)
-    const bool fresh = D[3 * j] == -1 || std::isnan(O[4 * j]);
+    PetscReal *o     = &O[kOffsetValues * j];
+    const bool fresh = D[3 * j] == -1 || std::isnan(o[0]);
     d->jfresh[j]     = fresh && d->prestress;
-    for (int q = 0; q < 4; ++q) {
-      if (fresh) O[4 * j + q] = 0;
-      if (!std::isfinite(O[4 * j + q]) && bad < 0) bad = d->jgid[j];
+    for (int q = 0; q < kOffsetValues; ++q) {
+      if (fresh) o[q] = 0;
+      if (!std::isfinite(o[q]) && bad < 0) bad = d->jgid[j];
+      any = any || (q < 9 && o[q] != 0);
     }
-    any = any || d->jfresh[j] || O[4 * j] != 0 || O[4 * j + 1] != 0 || O[4 * j + 2] != 0;
+    any = any || d->jfresh[j];
     for (int q = 0; q < 3; ++q) {
       if (D[3 * j + q] == -1) D[3 * j + q] = 0;
       const PetscReal v = D[3 * j + q], w = W[3 * j + q];
@@ -857,7 +1231,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   }
   if (any) {
     d->jofs.assign(d->jstate.size(), {});
-    for (std::size_t j = 0; j < d->jstate.size(); ++j) std::copy(&O[4 * j], &O[4 * j] + 3, d->jofs[j].c), d->jofs[j].energy = O[4 * j + 3];
+    for (std::size_t j = 0; j < d->jstate.size(); ++j) std::copy(&O[kOffsetValues * j], &O[kOffsetValues * j] + 9, &d->jofs[j].c[0][0]), d->jofs[j].energy = O[kOffsetValues * j + 9];
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_MAX, d->comm));
   PetscCheck(bad < 0, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: joint %" PetscInt_FMT " has a damage or shear damage outside [0, 1], a negative dissipated or last energy, or an offset that is not a finite number, in the saved state", bad);

@@ -56,9 +56,13 @@ struct JointOrigin {
 // doc/fracture.md): kept in a frame of its face that both sides agree on (OffsetSeparation), so
 // that it survives a rebuild that swaps triangles a and b.
 struct JointOffset {
-  double c[3]   = {0, 0, 0}; // m: along the frame's e1, e2 and normal
-  double energy = 0;         // J: what the joint stored when it got the offset (counted from there)
-  bool   any() const { return c[0] != 0 || c[1] != 0 || c[2] != 0; }
+  double c[3][3] = {}; // m: at each node of the face (in the order of their input nodes), along the frame's e1, e2 and normal
+  double energy  = 0;  // J: what the joint stored when it got the offset (counted from there)
+  bool   any() const {
+    for (const auto &r : c)
+      if (r[0] != 0 || r[1] != 0 || r[2] != 0) return true;
+    return false;
+  }
 };
 } // namespace fdem::model::deformable
 
@@ -140,6 +144,9 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   jcell_a;        // their tetrahedra a: local cells
   std::vector<fdem::model::deformable::JointOffset> jofs; // their offsets (empty when none has one)
   std::vector<char>                       jfresh;         // inserted by the last load of a joint state: their offsets are still to make
+  std::vector<char>                       jequil;         // given the mean traction by PrestressNewJoints, to be balanced node by node (EquilibrateNewJoints)
+  std::vector<PetscInt>                   saved_node;     // per local node: the node of the saved split it came from (after a load into a larger split), else empty
+  bool                                    equilibrate_pending = false; // the same on every rank
   bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start at their face's traction
   bool                                    prestress_pending = false; // some joint is fresh (the same on every rank)
   std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
@@ -190,6 +197,10 @@ PetscErrorCode LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscIn
 // Adds the joint forces at local positions xl into the local forces fl and records the
 // joints that break (time t, jbreaks); at the first evaluation of a TS, warns when its time step is near the joints' limit (collective).
 PetscErrorCode AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl);
+// After the hooks of the first evaluation after an insertion: shifts the forces of the new joints
+// node by node so that every copy of a node accelerates as the node it came from did, and adds
+// the change to the local forces fl (deformable_joints.cpp). Collective.
+PetscErrorCode EquilibrateNewJoints(FDEMDeformable d);
 PetscErrorCode DestroyJoints(FDEMDeformable d);
 
 // Owned positions xo (and velocities vo, may be null) into the local vectors xloc
