@@ -178,7 +178,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscBool prestress = PETSC_TRUE; // joints inserted under load start at their face's traction
   PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
-  PetscCall(PetscOptionsBool("-fdem_insert_prestress", "A joint inserted during a run (insert_at) starts at the traction its face carries, so that the insertion does not release the stress it carried (false: it starts unloaded; doc/fracture.md)", "FDEMDeformableSetFractureInsertion", prestress, &prestress, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_insert_prestress", "Joints inserted during a run (insert_at) start with the forces their faces carried, balanced so that the copies of each node move together, and the insertion does not release the stress (false: they start unloaded; doc/fracture.md)", "FDEMDeformableSetFractureInsertion", prestress, &prestress, nullptr));
   PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (false: at its three points only; doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
   PetscOptionsEnd();
   d->prestress         = prestress;
