@@ -580,8 +580,8 @@ static PetscErrorCode PrestressNewJoints(FDEMDeformable d, const PetscScalar *xl
     double       o[3][3];
     for (int q = 0; q < 3; ++q) SeparationForTraction(d->jlaw[j], n, t, o[q]);
     StartJointAt(d, j, xa, o);
-    d->jequil[j] = !d->saved_node.empty();
-    any          = any || d->jequil[j];
+    d->jequil[j] = 1;
+    any          = 1;
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, d->comm));
   d->equilibrate_pending = any != 0;
@@ -659,14 +659,16 @@ static void GraphPotentials(int n, const std::vector<std::pair<int, int>> &edges
 // tractions; where the stress jumps from one tetrahedron to the next, each copy of a node is
 // then left a part of the jump, and rings. Here, at the first evaluation after the insertion,
 // with every force of the evaluation on the copies (the elements, the joints, the contact and
-// the other hooks): the copies of each node of the saved split (their group) should accelerate
-// as that node did, F_c = m_c R / M (R, M the group's force and mass); the new joints' forces
-// at the group's node are shifted by the flows of the graph Laplacian (copies as vertices, new
-// joints as edges) that take each copy's residual F_c - m_c R / M away. Each joint's forces at
-// its three nodes then give the tractions at its three points, and its points start at the
-// separations whose law gives them (the node offsets of StartJointAt). The change of the joints'
-// forces is added to this evaluation's local forces. A group with a fixed or moved copy is left
-// as it is. Collective.
+// the other hooks): the copies that new joints join at an input node (a part) were one node
+// before the insertion (a new joint lies on a face that had none, between two tetrahedra that
+// shared their nodes), and should accelerate as that node did, F_c = m_c R / M (R, M the part's
+// force and mass). The new joints' forces at the node are shifted by the flows of the graph
+// Laplacian (the copies of the input node as vertices, the new joints as edges) that take each
+// copy's residual F_c - m_c R / M away. Each joint's forces at its three nodes then give the
+// tractions at its three points, and its points start at the separations whose law gives them
+// (the node offsets of StartJointAt). The change of the joints' forces is added to this
+// evaluation's local forces. A part with a fixed or moved copy is left as it is. Each input
+// node is solved on one rank (its id modulo the ranks). Collective.
 PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
   const int         size = d->size;
   const std::size_t nj   = d->jnode_a.size();
@@ -702,15 +704,14 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
         PetscCall(VecDestroy(&G));
       }
     }
-    // 2. to the rank of each group (its saved node modulo the ranks): the copies (group, id, F,
-    //    m, fixed) and the adjustable joints' edges at the group's node (group, a's id, b's id,
-    //    joint, slot); a joint that keeps its forces: (group, a's id, b's id, -1, -1)
+    // 2. to the rank of each input node (its id modulo the ranks): its copies (node, id, F, m,
+    //    fixed) and the adjustable joints' edges there (node, a's id, b's id, joint, slot)
     std::vector<std::vector<double>> cout(size), eout(size);
     {
       const PetscScalar *m;
       PetscCall(VecGetArrayRead(d->m, &m));
       for (PetscInt k = 0; k < d->nown; ++k) {
-        const PetscInt g = d->saved_node[d->owned_local[k]];
+        const PetscInt g = d->local_input[d->owned_local[k]];
         auto          &o = cout[g % size];
         o.insert(o.end(), {(double)g, (double)d->owned_gid[k], F[3 * k], F[3 * k + 1], F[3 * k + 2], PetscRealPart(m[3 * k]), (double)d->fixed[k]});
       }
@@ -719,7 +720,7 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
     for (std::size_t j = 0; j < nj; ++j) {
       if (!d->jequil[j]) continue;
       for (int i = 0; i < 3; ++i) {
-        const PetscInt la = d->jnode_a[j][i], g = d->saved_node[la];
+        const PetscInt la = d->jnode_a[j][i], g = d->local_input[la];
         auto          &o = eout[g % size];
         o.insert(o.end(), {(double)g, (double)d->node_gid[la], (double)bid[9 * j + 3 * i], (double)j, (double)i});
       }
@@ -728,7 +729,7 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
     std::vector<int>    cfrom, efrom;
     PetscCall(Exchange(d->comm, 7, cout, cin, cfrom));
     PetscCall(Exchange(d->comm, 5, eout, ein, efrom));
-    // 3. each group's potentials, and the flows back to the joints' ranks (joint, slot, dF)
+    // 3. each input node's potentials, and the flows back to the joints' ranks (joint, slot, dF)
     struct Group {
       std::vector<std::size_t> copies, edges; // records in cin, ein
     };
@@ -739,32 +740,48 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
     for (const auto &[g, G] : groups) {
       if (G.edges.empty()) continue;
       std::unordered_map<PetscInt, int> vertex;
-      double                            R[3] = {0, 0, 0}, M = 0;
-      bool                              known = true;
       for (std::size_t r : G.copies) {
-        const double *c = &cin[7 * r];
-        const int     v = (int)vertex.size();
-        vertex[(PetscInt)c[1]] = v;
-        for (int k = 0; k < 3; ++k) R[k] += c[2 + k];
-        M += c[5];
-        known = known && c[6] == 0; // (a fixed or moved node: left as it is)
+        const int v = (int)vertex.size();
+        vertex[(PetscInt)cin[7 * r + 1]] = v;
       }
+      const int                        n = (int)vertex.size();
       std::vector<std::pair<int, int>> edges;
-      for (std::size_t r : G.edges) {
-        const auto a = vertex.find((PetscInt)ein[5 * r + 1]), b = vertex.find((PetscInt)ein[5 * r + 2]);
-        known = known && a != vertex.end() && b != vertex.end();
-        if (known) edges.push_back({a->second, b->second});
+      std::vector<char>                use(G.edges.size(), 1);
+      for (std::size_t q = 0; q < G.edges.size(); ++q) {
+        const std::size_t r = G.edges[q];
+        const auto        a = vertex.find((PetscInt)ein[5 * r + 1]), b = vertex.find((PetscInt)ein[5 * r + 2]);
+        if (a == vertex.end() || b == vertex.end()) use[q] = 0, edges.push_back({0, 0});
+        else edges.push_back({a->second, b->second});
       }
-      if (!known || !(M > 0)) continue;
-      const int           n = (int)vertex.size();
-      std::vector<double> e(3 * (size_t)n), phi;
+      // the parts that the new joints join are the nodes they came from: each part's force R and
+      // mass M; a part with a fixed or moved copy is left as it is
+      std::vector<int> part(n);
+      for (int v = 0; v < n; ++v) part[v] = v;
+      std::function<int(int)> root = [&](int v) { return part[v] == v ? v : part[v] = root(part[v]); };
+      for (std::size_t q = 0; q < edges.size(); ++q)
+        if (use[q]) part[root(edges[q].first)] = root(edges[q].second);
+      std::vector<double> R(4 * (size_t)n, 0.0), e(3 * (size_t)n, 0.0), phi;
+      std::vector<char>   held(n, 0);
       for (std::size_t r : G.copies) {
         const double *c = &cin[7 * r];
-        const int     v = vertex[(PetscInt)c[1]];
-        for (int k = 0; k < 3; ++k) e[3 * (size_t)v + k] = c[2 + k] - c[5] * R[k] / M;
+        const int     p = root(vertex[(PetscInt)c[1]]);
+        for (int k = 0; k < 3; ++k) R[4 * (size_t)p + k] += c[2 + k];
+        R[4 * (size_t)p + 3] += c[5];
+        held[p] = held[p] || c[6] != 0;
       }
-      GraphPotentials(n, edges, e, phi);
+      for (std::size_t r : G.copies) {
+        const double *c = &cin[7 * r];
+        const int     v = vertex[(PetscInt)c[1]], p = root(v);
+        if (held[p] || !(R[4 * (size_t)p + 3] > 0)) continue;
+        for (int k = 0; k < 3; ++k) e[3 * (size_t)v + k] = c[2 + k] - c[5] * R[4 * (size_t)p + k] / R[4 * (size_t)p + 3];
+      }
+      std::vector<std::pair<int, int>> used;
+      for (std::size_t q = 0; q < edges.size(); ++q)
+        if (use[q] && !held[root(edges[q].first)] && R[4 * (size_t)root(edges[q].first) + 3] > 0) used.push_back(edges[q]);
+        else use[q] = 0;
+      GraphPotentials(n, used, e, phi);
       for (std::size_t q = 0; q < G.edges.size(); ++q) {
+        if (!use[q]) continue;
         const std::size_t r = G.edges[q];
         const auto [a, b]   = edges[q];
         auto &o             = rout[efrom[r]];
@@ -1089,54 +1106,15 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
   PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
   // the offsets of joints inserted under load: c[3][3] and the energy counted from; NaN for a
-  // joint inserted by the last load whose offset is still to make (it makes it when loaded)
+  // joint inserted by the last load whose offset is not made yet (it is made when loaded)
   std::vector<PetscReal> O(kOffsetValues * d->jstate.size(), 0.0);
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {
     PetscReal *o = &O[kOffsetValues * j];
-    if (d->prestress_pending && d->jfresh[j]) std::fill(o, o + kOffsetValues, NAN);
+    if ((d->prestress_pending && d->jfresh[j]) || (d->equilibrate_pending && d->jequil[j])) std::fill(o, o + kOffsetValues, NAN);
     else if (!d->jofs.empty()) std::copy(&d->jofs[j].c[0][0], &d->jofs[j].c[0][0] + 9, o), o[9] = d->jofs[j].energy;
   }
   PetscCall(JointField(d, viewer, "joint_offset", kOffsetValues, O.data(), false));
   PetscCall(OnsetField(d, viewer, false));
-  PetscFunctionReturn(0);
-}
-
-// d->saved_node: the node of the split `old` (the saved one) that each local node came from
-// (NodeOrigins, on rank 0), for EquilibrateNewJoints. Collective.
-static PetscErrorCode SavedNodes(FDEMDeformable d, const std::vector<PetscInt> &old) {
-  std::vector<PetscInt> from;
-  PetscInt              nold = 0;
-  Vec                   nat, mine;
-  VecScatter            sc;
-  IS                    is;
-  PetscFunctionBegin;
-  PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
-    if (d->rank == 0) NodeOrigins(d, old, from, &nold);
-    return 0;
-  }));
-  PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, d->nnodes_global, &nat));
-  if (d->rank == 0) {
-    std::vector<PetscInt>    ids(from.size());
-    std::vector<PetscScalar> vals(from.size());
-    for (std::size_t i = 0; i < from.size(); ++i) ids[i] = (PetscInt)i, vals[i] = (PetscScalar)from[i];
-    PetscCall(VecSetValues(nat, (PetscInt)ids.size(), ids.data(), vals.data(), INSERT_VALUES));
-  }
-  PetscCall(VecAssemblyBegin(nat));
-  PetscCall(VecAssemblyEnd(nat));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, d->nlocal, &mine));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, d->nlocal, d->node_gid.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(VecScatterCreate(nat, is, mine, nullptr, &sc));
-  PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar *a;
-  PetscCall(VecGetArrayRead(mine, &a));
-  d->saved_node.resize(d->nlocal);
-  for (PetscInt l = 0; l < d->nlocal; ++l) d->saved_node[l] = (PetscInt)PetscRealPart(a[l]);
-  PetscCall(VecRestoreArrayRead(mine, &a));
-  PetscCall(VecScatterDestroy(&sc));
-  PetscCall(ISDestroy(&is));
-  PetscCall(VecDestroy(&mine));
-  PetscCall(VecDestroy(&nat));
   PetscFunctionReturn(0);
 }
 
@@ -1162,8 +1140,6 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   d->jofs.clear();
   d->prestress_pending = d->equilibrate_pending = false;
   std::fill(d->jfresh.begin(), d->jfresh.end(), 0);
-  d->saved_node.clear();
-  if (differs && d->prestress) PetscCall(SavedNodes(d, old));
   if (differs && nold == 0) { // no joint was saved: all start intact (or at their faces' tractions), nothing dissipated
     for (std::size_t j = 0; j < d->jstate.size(); ++j) {
       for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};

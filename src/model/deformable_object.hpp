@@ -145,7 +145,6 @@ struct _n_FDEMDeformable {
   std::vector<fdem::model::deformable::JointOffset> jofs; // their offsets (empty when none has one)
   std::vector<char>                       jfresh;         // inserted by the last load of a joint state: their offsets are still to make
   std::vector<char>                       jequil;         // given the mean traction by PrestressNewJoints, to be balanced node by node (EquilibrateNewJoints)
-  std::vector<PetscInt>                   saved_node;     // per local node: the node of the saved split it came from (after a load into a larger split), else empty
   bool                                    equilibrate_pending = false; // the same on every rank
   bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start at their face's traction
   bool                                    prestress_pending = false; // some joint is fresh (the same on every rank)

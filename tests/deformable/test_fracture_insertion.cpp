@@ -26,8 +26,8 @@
 //     the joints' stored energy, counted from the insertion, is 0 there. A's state (A split
 //     between x = 0.1 and 0.3 here) then loaded into B (A's joints keep their offsets, those at
 //     x = 0.1 with their sides swapped; B's new joints get
-//     theirs): the same; and B's state restarted into a model of the same split gives B's
-//     forces to the bit.
+//     theirs): the same; B's state restarted into a model of the same split gives B's forces
+//     to the bit, and so does a checkpoint written before B's new joints started.
 #include "common.hpp"
 #include "../../src/model/deformable_object.hpp"
 
@@ -417,6 +417,29 @@ int main(int argc, char **argv) {
     PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Boff));
     PetscCall(PetscOptionsClearValue(nullptr, "-fdem_insert_prestress"));
     PetscCall(ShearedForces(Boff, file, &foff, &eoff, &Foff));
+    // a checkpoint written before the new joints started (right after the load) starts them on restart
+    {
+      FDEMDeformable Bp, Bq;
+      Vec            Fq;
+      PetscReal      fq, eq, dq;
+      PetscViewer    v;
+      char           early[PETSC_MAX_PATH_LEN];
+      PetscCall(PetscSNPrintf(early, sizeof early, "fracture_insertion_early_np%d.h5", (int)size));
+      PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Bp));
+      PetscCall(SaveJoints(A6, early));
+      PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, early, FILE_MODE_READ, &v));
+      PetscCall(FDEMDeformableLoadJointState(Bp, v));
+      PetscCall(PetscViewerDestroy(&v));
+      PetscCall(SaveJoints(Bp, early));
+      PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Bq));
+      PetscCall(ShearedForces(Bq, early, &fq, &eq, &Fq));
+      PetscCall(VecAXPY(Fq, -1, FB));
+      PetscCall(VecNorm(Fq, NORM_INFINITY, &dq));
+      CHECK(dq == 0 && eq == eB, "restarted from a checkpoint written before the new joints started: forces %g N apart, stored energy %g J against %g J", dq, eq, eB);
+      PetscCall(VecDestroy(&Fq));
+      PetscCall(FDEMDeformableDestroy(&Bp));
+      PetscCall(FDEMDeformableDestroy(&Bq));
+    }
     PetscCall(SaveJoints(B6, file));
     PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &B6b));
     PetscCall(ShearedForces(B6b, file, &fBb, &eBb, &FBb));
