@@ -588,7 +588,7 @@ static PetscErrorCode PrestressNewJoints(FDEMDeformable d, const PetscScalar *xl
   PetscFunctionReturn(0);
 }
 
-// Sends records of `per` doubles to the ranks in dest (out[r]), gets those sent here (in) and
+// Sends the records of `per` doubles in out[r] to rank r, and gets those sent here (in) with
 // the rank each came from (from). Collective.
 static PetscErrorCode Exchange(MPI_Comm comm, int per, const std::vector<std::vector<double>> &out, std::vector<double> &in, std::vector<int> &from) {
   const int                size = (int)out.size();
@@ -674,7 +674,7 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
   const std::size_t nj   = d->jnode_a.size();
   PetscFunctionBegin;
   d->equilibrate_pending = false;
-  // the ids of triangle b's nodes (for the edges of the groups' graphs)
+  // the ids of triangle b's nodes (for the edges of the input nodes' graphs)
   std::vector<PetscInt> bid(9 * nj, -1), gid3(3 * (size_t)d->nlocal);
   for (PetscInt l = 0; l < d->nlocal; ++l) gid3[3 * l] = gid3[3 * l + 1] = gid3[3 * l + 2] = d->node_gid[l];
   PetscCall(PetscSFBcastBegin(d->jsf, MPIU_INT, gid3.data(), bid.data(), MPI_REPLACE));
@@ -706,13 +706,13 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
     }
     // 2. to the rank of each input node (its id modulo the ranks): its copies (node, id, F, m,
     //    fixed) and the adjustable joints' edges there (node, a's id, b's id, joint, slot)
-    std::vector<std::vector<double>> cout(size), eout(size);
+    std::vector<std::vector<double>> copies_out(size), edges_out(size);
     {
       const PetscScalar *m;
       PetscCall(VecGetArrayRead(d->m, &m));
       for (PetscInt k = 0; k < d->nown; ++k) {
         const PetscInt g = d->local_input[d->owned_local[k]];
-        auto          &o = cout[g % size];
+        auto          &o = copies_out[g % size];
         o.insert(o.end(), {(double)g, (double)d->owned_gid[k], F[3 * k], F[3 * k + 1], F[3 * k + 2], PetscRealPart(m[3 * k]), (double)d->fixed[k]});
       }
       PetscCall(VecRestoreArrayRead(d->m, &m));
@@ -721,14 +721,14 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
       if (!d->jequil[j]) continue;
       for (int i = 0; i < 3; ++i) {
         const PetscInt la = d->jnode_a[j][i], g = d->local_input[la];
-        auto          &o = eout[g % size];
+        auto          &o = edges_out[g % size];
         o.insert(o.end(), {(double)g, (double)d->node_gid[la], (double)bid[9 * j + 3 * i], (double)j, (double)i});
       }
     }
     std::vector<double> cin, ein;
     std::vector<int>    cfrom, efrom;
-    PetscCall(Exchange(d->comm, 7, cout, cin, cfrom));
-    PetscCall(Exchange(d->comm, 5, eout, ein, efrom));
+    PetscCall(Exchange(d->comm, 7, copies_out, cin, cfrom));
+    PetscCall(Exchange(d->comm, 5, edges_out, ein, efrom));
     // 3. each input node's potentials, and the flows back to the joints' ranks (joint, slot, dF)
     struct Group {
       std::vector<std::size_t> copies, edges; // records in cin, ein
