@@ -175,7 +175,7 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   const PetscInt nj = sizes[0];
   d->zoned          = sizes[2] != 0;
   d->njoints_global = nj;
-  PetscBool prestress = PETSC_TRUE; // joints inserted under load start at their face's traction
+  PetscBool prestress = PETSC_TRUE; // joints inserted under load start with their faces' forces
   PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
   PetscCall(PetscOptionsBool("-fdem_insert_prestress", "Joints inserted during a run (insert_at) start with the forces their faces carried, balanced so that the copies of each node move together, and the insertion does not release the stress (false: they start unloaded; doc/fracture.md)", "FDEMDeformableSetFractureInsertion", prestress, &prestress, nullptr));

@@ -52,9 +52,9 @@ struct JointOrigin {
   PetscInt joint    = -1;          // -1: a new joint
   int      point[3] = {0, 1, 2};
 };
-// The separation that a joint inserted into a stressed body starts from (PrestressNewJoints,
-// doc/fracture.md): kept in a frame of its face that both sides agree on (OffsetSeparation), so
-// that it survives a rebuild that swaps triangles a and b.
+// The separations that a joint inserted into a stressed body starts from, at its three nodes
+// (PrestressNewJoints, EquilibrateNewJoints, doc/fracture.md): kept in a frame of its face that
+// both sides agree on (OffsetFrame), so that they survive a rebuild that swaps triangles a and b.
 struct JointOffset {
   double c[3][3] = {}; // m: at each node of the face (in the order of their input nodes), along the frame's e1, e2 and normal
   double energy  = 0;  // J: what the joint stored when it got the offset (counted from there)
@@ -146,7 +146,7 @@ struct _n_FDEMDeformable {
   std::vector<char>                       jfresh;         // inserted by the last load of a joint state: their offsets are still to make
   std::vector<char>                       jequil;         // given the mean traction by PrestressNewJoints, to be balanced node by node (EquilibrateNewJoints)
   bool                                    equilibrate_pending = false; // the same on every rank
-  bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start at their face's traction
+  bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start with their faces' forces
   bool                                    prestress_pending = false; // some joint is fresh (the same on every rank)
   std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
   PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
@@ -198,7 +198,7 @@ PetscErrorCode LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscIn
 PetscErrorCode AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl);
 // After the hooks of the first evaluation after an insertion: shifts the forces of the new joints
 // node by node so that every copy of a node accelerates as the node it came from did, and adds
-// the change to the local forces fl (deformable_joints.cpp). Collective.
+// the change to the local forces d->floc (deformable_joints.cpp). Collective.
 PetscErrorCode EquilibrateNewJoints(FDEMDeformable d);
 PetscErrorCode DestroyJoints(FDEMDeformable d);
 
