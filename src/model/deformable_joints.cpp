@@ -522,16 +522,18 @@ static void SeparationForTraction(const JointLaw &law, const double n[3], const 
 // Joint j with the separations o[q] at its three points (the edge midpoints; node offsets O[i]
 // with o[q] = (O[q] + O[q+1]) / 2): the node offsets, fresh point histories evaluated there (the
 // shear's secant), and the energy it stores at zero separation, where its stored energy is
-// counted from.
-static void StartJointAt(FDEMDeformable d, std::size_t j, const double xa[3][3], const double o[3][3]) {
+// counted from. fa (may be null): the forces on triangle a's nodes of that evaluation, which
+// the next evaluation at zero separation repeats (the secant it raised holds).
+static void StartJointAt(FDEMDeformable d, std::size_t j, const double xa[3][3], const double o[3][3], double (*fa)[3] = nullptr) {
   double O[3][3], ya[3][3], yb[3][3];
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) O[i][k] = o[i][k] - o[(i + 1) % 3][k] + o[(i + 2) % 3][k], ya[i][k] = yb[i][k] = xa[i][k];
   ApplyOffset(O, ya, yb);
   // the points' histories from a first evaluation at these positions (the kernel's own geometry)
   for (int q = 0; q < 3; ++q) d->jstate[j][q] = fdem::kernels::JointState{};
-  double fa[3][3] = {}, fb[3][3] = {};
-  (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, d->jstate[j].data(), fa, fb);
+  double f[3][3] = {}, fb[3][3] = {};
+  (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, d->jstate[j].data(), f, fb);
+  if (fa) std::copy(&f[0][0], &f[0][0] + 9, &fa[0][0]);
   SetOffset(d, j, xa, O);
   d->jofs[j].energy = fdem::kernels::JointElementEnergy(d->jlaw[j], ya, yb, d->jstate[j].data());
 }
@@ -809,20 +811,18 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
     for (std::size_t j = 0; j < nj; ++j) {
       if (!d->jequil[j]) continue;
       // (the copies of a and b coincide at this first evaluation: the joint's separation is its offset)
-      double xa[3][3], ya[3][3], yb[3][3], O[3][3], n[3], area, o[3][3];
+      double xa[3][3], ya[3][3], O[3][3], n[3], area, o[3][3];
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) xa[i][k] = xl[3 * d->jnode_a[j][i] + k];
       if (!got[j] || !TriangleNormal(xa, n, &area)) {
         d->jequil[j] = 0;
         continue;
       }
-      auto shifted = [&]() {
-        OffsetSeparation(d, j, xa, O);
-        std::copy(&xa[0][0], &xa[0][0] + 9, &ya[0][0]);
-        std::copy(&xa[0][0], &xa[0][0] + 9, &yb[0][0]);
-        ApplyOffset(O, ya, yb);
-      };
-      shifted();
+      double yb[3][3];
+      OffsetSeparation(d, j, xa, O);
+      std::copy(&xa[0][0], &xa[0][0] + 9, &ya[0][0]);
+      std::copy(&xa[0][0], &xa[0][0] + 9, &yb[0][0]);
+      ApplyOffset(O, ya, yb);
       const std::array<fdem::kernels::JointState, 3> st0  = d->jstate[j];
       const JointOffset                              ofs0 = d->jofs[j];
       std::array<fdem::kernels::JointState, 3>       st   = st0;
@@ -835,19 +835,17 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
       double Fn[3][3], t[3][3], w = area / 3, big = 0, miss = 0;
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) Fn[i][k] = f0[i][k] + dF[9 * j + 3 * i + k], big = std::max({big, std::fabs(Fn[i][k]), std::fabs(f0[i][k])});
+      auto start = [&]() { // the joint's points at the separations o: its forces f1 and their miss
+        StartJointAt(d, j, xa, o, f1);
+        miss = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) miss = std::max(miss, std::fabs(Fn[i][k] - f1[i][k]));
+      };
       for (int q = 0; q < 3; ++q)
         for (int k = 0; k < 3; ++k) t[q][k] = (Fn[q][k] + Fn[(q + 1) % 3][k] - Fn[(q + 2) % 3][k]) / w;
       for (int pass = 0; pass < 6; ++pass) {
         for (int q = 0; q < 3; ++q) SeparationForTraction(d->jlaw[j], n, t[q], o[q]);
-        StartJointAt(d, j, xa, o);
-        shifted();
-        st = d->jstate[j];
-        std::fill(&f1[0][0], &f1[0][0] + 9, 0.0);
-        std::fill(&fb[0][0], &fb[0][0] + 9, 0.0);
-        (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, st.data(), f1, fb);
-        miss = 0;
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) miss = std::max(miss, std::fabs(Fn[i][k] - f1[i][k]));
+        start();
         if (miss <= 1e-9 * big) break;
         for (int q = 0; q < 3; ++q)
           for (int k = 0; k < 3; ++k) t[q][k] += ((Fn[q][k] - f1[q][k]) + (Fn[(q + 1) % 3][k] - f1[(q + 1) % 3][k]) - (Fn[(q + 2) % 3][k] - f1[(q + 2) % 3][k])) / w;
@@ -922,15 +920,7 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
         if (miss <= 1e-6 * big) { // the joint at these node offsets (its points at the edges' midpoints)
           for (int q = 0; q < 3; ++q)
             for (int k = 0; k < 3; ++k) o[q][k] = 0.5 * (Ov[3 * q + k] + Ov[3 * ((q + 1) % 3) + k]);
-          StartJointAt(d, j, xa, o);
-          shifted();
-          st = d->jstate[j];
-          std::fill(&f1[0][0], &f1[0][0] + 9, 0.0);
-          std::fill(&fb[0][0], &fb[0][0] + 9, 0.0);
-          (void)fdem::kernels::JointElementForces(d->jlaw[j], ya, yb, st.data(), f1, fb);
-          miss = 0;
-          for (int i = 0; i < 3; ++i)
-            for (int k = 0; k < 3; ++k) miss = std::max(miss, std::fabs(Fn[i][k] - f1[i][k]));
+          start();
         }
       }
       if (!(miss <= 1e-6 * big)) { // not reached: the joint keeps the forces it had
