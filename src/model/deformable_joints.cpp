@@ -596,15 +596,25 @@ static PetscErrorCode Exchange(MPI_Comm comm, int per, const std::vector<std::ve
   const int                size = (int)out.size();
   std::vector<PetscMPIInt> sc(size), rc(size), sd(size, 0), rd(size, 0);
   std::vector<double>      buf;
+  std::size_t              nout = 0, nin = 0;
+  PetscMPIInt              big[2];
   PetscFunctionBegin;
-  for (int r = 0; r < size; ++r) {
-    sc[r] = (PetscMPIInt)out[r].size();
-    if (r) sd[r] = sd[r - 1] + sc[r - 1];
-    buf.insert(buf.end(), out[r].begin(), out[r].end());
-  }
+  for (int r = 0; r < size; ++r) nout += out[r].size();
+  big[0] = nout > (std::size_t)INT_MAX;
+  if (!big[0])
+    for (int r = 0; r < size; ++r) {
+      sc[r] = (PetscMPIInt)out[r].size();
+      if (r) sd[r] = sd[r - 1] + sc[r - 1];
+      buf.insert(buf.end(), out[r].begin(), out[r].end());
+    }
   PetscCallMPI(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm));
+  for (int r = 0; r < size; ++r) nin += (std::size_t)rc[r];
+  big[1] = nin > (std::size_t)INT_MAX;
+  // (MPI's counts and displacements are int: every rank stops if one rank's totals do not fit)
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, big, 2, MPI_INT, MPI_MAX, comm));
+  PetscCheck(!big[0] && !big[1], comm, PETSC_ERR_SUP, "the balance of new joints would %s more than %d numbers on one rank (MPI's int counts): use more ranks", big[0] ? "send" : "receive", INT_MAX);
   for (int r = 1; r < size; ++r) rd[r] = rd[r - 1] + rc[r - 1];
-  in.resize(rd[size - 1] + rc[size - 1]);
+  in.resize(nin);
   PetscCallMPI(MPI_Alltoallv(buf.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm));
   from.clear();
   for (int r = 0; r < size; ++r)
@@ -657,6 +667,41 @@ static void GraphPotentials(int n, const std::vector<std::pair<int, int>> &edges
       for (int k = 0; k < 3; ++k) phi[3 * (size_t)v + k] = B[3 * (size_t)idx[v] + k];
 }
 
+// touched[k]: whether owned node k is a corner of a joint still to balance (d->jequil), on
+// either side of it and on any rank. Collective.
+static PetscErrorCode TouchedByNewJoints(FDEMDeformable d, std::vector<char> &touched) {
+  const std::size_t nj = d->jnode_a.size();
+  std::vector<int>  on(3 * (size_t)d->nlocal, 0), leaf(9 * nj, 0);
+  PetscFunctionBegin;
+  for (std::size_t j = 0; j < nj; ++j)
+    if (d->jequil[j])
+      for (int i = 0; i < 9; ++i) leaf[9 * j + i] = 1, on[3 * (size_t)d->jnode_a[j][i / 3] + i % 3] = 1;
+  PetscCall(PetscSFReduceBegin(d->jsf, MPI_INT, leaf.data(), on.data(), MPI_MAX)); // triangle b's corners
+  PetscCall(PetscSFReduceEnd(d->jsf, MPI_INT, leaf.data(), on.data(), MPI_MAX));
+  touched.assign(d->nown, 0);
+  if (d->local_is_owned) {
+    for (PetscInt k = 0; k < d->nown; ++k) touched[k] = on[3 * (size_t)d->owned_local[k]] != 0;
+    PetscFunctionReturn(0);
+  }
+  Vec          L, G; // a ghost's mark to its owner
+  PetscScalar *l;
+  PetscCall(VecDuplicate(d->floc, &L));
+  PetscCall(VecDuplicate(d->x, &G));
+  PetscCall(VecGetArray(L, &l));
+  for (std::size_t i = 0; i < on.size(); ++i) l[i] = on[i];
+  PetscCall(VecRestoreArray(L, &l));
+  PetscCall(VecSet(G, 0));
+  PetscCall(DMLocalToGlobalBegin(d->dm, L, ADD_VALUES, G));
+  PetscCall(DMLocalToGlobalEnd(d->dm, L, ADD_VALUES, G));
+  const PetscScalar *g;
+  PetscCall(VecGetArrayRead(G, &g));
+  for (PetscInt k = 0; k < d->nown; ++k) touched[k] = PetscRealPart(g[3 * k]) > 0;
+  PetscCall(VecRestoreArrayRead(G, &g));
+  PetscCall(VecDestroy(&L));
+  PetscCall(VecDestroy(&G));
+  PetscFunctionReturn(0);
+}
+
 // Joints inserted under load (PrestressNewJoints) start at the mean of their two sides'
 // tractions; where the stress jumps from one tetrahedron to the next, each copy of a node is
 // then left a part of the jump, and rings. Here, at the first evaluation after the insertion,
@@ -706,13 +751,17 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
         PetscCall(VecDestroy(&G));
       }
     }
-    // 2. to the rank of each input node (its id modulo the ranks): its copies (node, id, F, m,
-    //    fixed) and the adjustable joints' edges there (node, a's id, b's id, joint, slot)
+    // 2. to the rank of each input node (its id modulo the ranks): the copies that adjustable
+    //    joints join (node, id, F, m, fixed; a copy that no such joint touches is a part of its
+    //    own, balanced already) and those joints' edges there (node, a's id, b's id, joint, slot)
+    std::vector<char> touched;
+    PetscCall(TouchedByNewJoints(d, touched));
     std::vector<std::vector<double>> copies_out(size), edges_out(size);
     {
       const PetscScalar *m;
       PetscCall(VecGetArrayRead(d->m, &m));
       for (PetscInt k = 0; k < d->nown; ++k) {
+        if (!touched[k]) continue;
         const PetscInt g = d->local_input[d->owned_local[k]];
         auto          &o = copies_out[g % size];
         o.insert(o.end(), {(double)g, (double)d->owned_gid[k], F[3 * k], F[3 * k + 1], F[3 * k + 2], PetscRealPart(m[3 * k]), (double)d->fixed[k]});
