@@ -372,10 +372,29 @@ bool EvaluateOne(const TetElement &el, const MaterialCoeffs &c, const double *x,
   return ToTetState(T, fe, ex, st, out);
 }
 
+// The Cauchy stress of one element alone (false if J <= 0): the same values as EvaluateOne's T,
+// without its nodal forces and TetState.
+template <class Model>
+bool CellStressOne(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, double *T) {
+  Kin k;
+  Kinematics<Model>(el, x, k);
+  if (!(k.J > 0)) return false;
+  double F[9], D[6] = {0, 0, 0, 0, 0, 0};
+  DeformationGradient(k.c, el.Xinv, F);
+  if (v) {
+    double V[12], L[9];
+    for (int a = 0; a < 4; ++a)
+      for (int j = 0; j < 3; ++j) V[3 * a + j] = v[3 * el.n[a] + j];
+    VelocityGradient<Model>(V, k.A, k.detC, el.Xinv, L, D);
+  }
+  Model::Stress(c, F, k.J, k.pre, D, T);
+  return true;
+}
+
 template <class Model>
 MaterialModel Entry() {
   return {Model::kName, Model::kSmallStrain, Model::kCost, &StressPoint<Model>, &Model::Energy, &EvaluateOne<Model>,
-          &Batch<Model, true>, &Batch<Model, false>};
+          &CellStressOne<Model>, &Batch<Model, true>, &Batch<Model, false>};
 }
 
 std::string MatName(const Material &m) { return "material '" + m.name + "'"; }
@@ -517,6 +536,11 @@ std::string InversionMessage(const ElementData &data, std::int64_t e, const doub
   o << "body " << (data.body.empty() ? 0 : data.body[e]) << ", element " << e << ": inverted (det F = " << s.J
     << " <= 0)";
   return o.str();
+}
+
+bool CellStress(const ElementData &data, std::size_t e, const double *x, const double *v, double T[6]) {
+  const TetElement &el = data.elems[e];
+  return MaterialModels()[data.materials[el.material].model].cell_stress(el, data.coeffs[el.material], x, v, T);
 }
 
 bool EvaluateTet(const ElementData &data, std::size_t e, const double *x, const double *v, TetState &out) {

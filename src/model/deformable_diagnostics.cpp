@@ -2,6 +2,7 @@
 // momentum, the state of one node, the smallest det F. See doc/deformable.md.
 #include "deformable_object.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 using fdem::kernels::Mat3;
@@ -37,10 +38,9 @@ PetscErrorCode FDEMDeformableComputeCellStress(FDEMDeformable d, Vec U, Vec *S) 
   PetscCall(VecGetArray(d->xloc, &xl));
   if (d->viscous) PetscCall(VecGetArray(d->vloc, &vl));
   for (size_t e = 0; e < d->ed.size(); ++e) {
-    fdem::kernels::TetState st;
-    const bool              ok = fdem::kernels::EvaluateTet(d->ed, e, xl, vl, st);
-    const double            T[6] = {st.T(0, 0), st.T(1, 1), st.T(2, 2), st.T(0, 1), st.T(1, 2), st.T(0, 2)};
-    for (int k = 0; k < 6; ++k) s[6 * e + k] = ok ? T[k] : NAN;
+    double T[6];
+    if (!fdem::kernels::CellStress(d->ed, e, xl, vl, T)) std::fill(T, T + 6, NAN);
+    for (int k = 0; k < 6; ++k) s[6 * e + k] = T[k];
   }
   if (d->viscous) PetscCall(VecRestoreArray(d->vloc, &vl));
   PetscCall(VecRestoreArray(d->xloc, &xl));

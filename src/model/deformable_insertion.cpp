@@ -290,8 +290,6 @@ PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable d, PetscViewer viewer
 }
 
 PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt *n, PetscInt *cells[]) {
-  Vec                S;
-  const PetscScalar *sa;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "FDEMDeformableFindCellsToSplit"));
   *n = 0;
@@ -306,9 +304,17 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
       if (it != d->insertion.end()) d->body_insertion[b] = it->second;
     }
   }
-  // this rank's cells of insertion bodies at or above their ratio (split ones too: rank 0 knows which are)
-  PetscCall(FDEMDeformableComputeCellStress(d, U, &S));
-  PetscCall(VecGetArrayRead(S, &sa));
+  // this rank's whole cells of insertion bodies at or above their ratio (those a fracture zone
+  // split too: rank 0 knows which are), their stresses alone
+  {
+    StateView sv;
+    PetscCall(sv.Get(d, U));
+    PetscCall(LocalPositions(d, sv.xa, d->viscous ? sv.va : nullptr));
+    PetscCall(sv.Restore());
+  }
+  const PetscScalar *xl, *vl = nullptr;
+  PetscCall(VecGetArrayRead(d->xloc, &xl));
+  if (d->viscous) PetscCall(VecGetArrayRead(d->vloc, &vl));
   std::vector<PetscInt> mine;
   std::vector<fdem::model::Strength> strength(d->body_insertion.size()); // per body (of insertion bodies)
   for (std::size_t b = 0; b < d->body_insertion.size(); ++b)
@@ -319,11 +325,14 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   for (std::size_t e = 0; e < d->ed.size(); ++e) {
     const int       b = d->ed.body[e];
     const PetscReal r = d->body_insertion[b];
-    if (r <= 0 || fdem::model::SurelyBelow(&sa[6 * e], strength[b], r)) continue;
-    if (fdem::model::StrengthRatio(&sa[6 * e], strength[b]) >= r) mine.push_back(d->cell_gid[e]);
+    double          T[6];
+    if (r <= 0 || std::binary_search(d->inserted.begin(), d->inserted.end(), d->cell_gid[e])) continue;
+    if (!fdem::kernels::CellStress(d->ed, e, xl, vl, T)) std::fill(T, T + 6, NAN); // (inverted: NaN, as the stress output has it)
+    if (fdem::model::SurelyBelow(T, strength[b], r)) continue;
+    if (fdem::model::StrengthRatio(T, strength[b]) >= r) mine.push_back(d->cell_gid[e]);
   }
-  PetscCall(VecRestoreArrayRead(S, &sa));
-  PetscCall(VecDestroy(&S));
+  if (d->viscous) PetscCall(VecRestoreArrayRead(d->vloc, &vl));
+  PetscCall(VecRestoreArrayRead(d->xloc, &xl));
   // to rank 0, which drops the split ones and adds their neighbours (the cells sharing a node
   // with them) in the same bodies, so that a crack has room to run before the next insertion
   const PetscMPIInt      cnt = (PetscMPIInt)mine.size();

@@ -364,6 +364,39 @@ TEST(CST, BatchedKernelEqualsElementSumAcrossMaterialsAndRanges) {
   }
 }
 
+TEST(CST, CellStressIsEvaluateTetsStressToTheBit) {
+  TetMesh mesh = JitteredBox(3);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) mesh.body[t] = (t / 7) % 3;
+  mesh.body_names = {"a", "b", "c"};
+  const std::vector<Material> mats = {Mat(1.0, 0.3, 1.0, 0.1, kMunjizaCST), Mat(2.0, 0.2, 1.0, 0.2, kNeoHookean),
+                                      Mat(3.0, 0.1, 1.0, 0.3, kSmallStrainLinear)};
+  const ElementData d = BuildElementData(mesh, mats, {0, 1, 2});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  std::vector<double> x, v;
+  for (const auto &p : mesh.nodes) x.insert(x.end(), {p.x + u(rng), p.y + u(rng), p.z + u(rng)});
+  for (std::size_t i = 0; i < x.size(); ++i) v.push_back(10 * u(rng));
+  x[3 * 21] += 0.9; // some elements inverted: no stress
+  int inverted = 0, compared = 0;
+  for (const double *vel : {static_cast<const double *>(v.data()), static_cast<const double *>(nullptr)})
+    for (std::size_t e = 0; e < d.size(); ++e) {
+      TetState s;
+      double   T[6] = {7, 7, 7, 7, 7, 7};
+      const bool ok = EvaluateTet(d, e, x.data(), vel, s);
+      ASSERT_EQ(CellStress(d, e, x.data(), vel, T), ok) << "element " << e;
+      if (!ok) {
+        ++inverted;
+        for (double t : T) EXPECT_EQ(t, 7.0); // untouched
+        continue;
+      }
+      const double want[6] = {s.T(0, 0), s.T(1, 1), s.T(2, 2), s.T(0, 1), s.T(1, 2), s.T(0, 2)};
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(T[k], want[k]) << "element " << e << ", component " << k;
+      ++compared;
+    }
+  EXPECT_GT(inverted, 1);
+  EXPECT_GT(compared, 100);
+}
+
 TEST(CST, InvertedElementReportedById) {
   const TetMesh mesh = JitteredBox(3);
   const ElementData d = BuildElementData(mesh, {Mat()}, {0});

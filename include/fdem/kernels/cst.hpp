@@ -104,6 +104,9 @@ struct TetState {
 };
 // Returns false (and leaves T and force zero) if J <= 0 for a finite-strain model.
 bool EvaluateTet(const ElementData &data, std::size_t e, const double *x, const double *v, TetState &out);
+// Element e's Cauchy stress alone, T = (xx, yy, zz, xy, yz, xz): EvaluateTet's T to the bit (v:
+// the node velocities of a viscous material, or nullptr). False, T untouched, if J <= 0.
+bool CellStress(const ElementData &data, std::size_t e, const double *x, const double *v, double T[6]);
 
 // Pointwise Cauchy stress of a material for deformation gradient F and
 // velocity gradient L (for the linear model L is read as Fdot).
@@ -129,6 +132,8 @@ using StressFn = void (*)(const MaterialCoeffs &c, const double *F, double J, co
 using EnergyFn = double (*)(const MaterialCoeffs &c, const Mat3 &F);
 // One element as EvaluateTet.
 using EvaluateFn = bool (*)(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, TetState &out);
+// One element's stress as CellStress.
+using CellStressFn = bool (*)(const TetElement &el, const MaterialCoeffs &c, const double *x, const double *v, double *T);
 struct MaterialModel {
   const char *name;
   bool small_strain;
@@ -136,6 +141,7 @@ struct MaterialModel {
   StressFn stress;
   EnergyFn energy;
   EvaluateFn evaluate;
+  CellStressFn cell_stress;
   BatchFn batch;
   BatchFn batch_no_visc;
 };
