@@ -165,7 +165,7 @@ PetscErrorCode SelectNodes(const Sim &s, const Body &b, const NodeSet &ns, const
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BuildDeformable(Sim &s, const std::vector<PetscInt> &fracture_cells) {
+PetscErrorCode BuildDeformable(Sim &s, const std::vector<PetscInt> &fracture_cells, FDEMDeformable previous) {
   const Scene                 &sc = *s.scene;
   std::vector<PetscReal>       nodes;
   std::vector<PetscInt>        tets, body, fixed;
@@ -222,6 +222,7 @@ PetscErrorCode BuildDeformable(Sim &s, const std::vector<PetscInt> &fracture_cel
     }
   }
   PetscCall(FDEMDeformableAddFractureCells(s.dfm, (PetscInt)fracture_cells.size(), fracture_cells.data()));
+  if (previous) PetscCall(FDEMDeformableReuseSetUp(s.dfm, previous));
   const bool root = rank == 0;
   PetscCall(FDEMDeformableSetMesh(s.dfm, root ? s.nnodes : 0, nodes.data(), root ? s.ntets : 0, tets.data(), body.data(), (PetscInt)names.size(), cnames.data()));
   const PetscReal g[3] = {sc.gravity.x, sc.gravity.y, sc.gravity.z};
@@ -279,7 +280,7 @@ double ElementFrequency(const kernels::TetMesh &m, const Material &mat) {
   return 2 * cp / hmin;
 }
 
-PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, Sim &s, const std::vector<PetscInt> &fracture_cells) {
+PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::TetMesh> meshes, Sim &s, const std::vector<PetscInt> &fracture_cells, FDEMDeformable previous) {
   PetscFunctionBeginUser;
   s.comm   = comm;
   s.scene  = &sc;
@@ -300,7 +301,7 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
   PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)", sc.file.c_str(),
              sc.periodic.where.c_str(), s.deformable_bodies.empty() ? "" : sc.bodies[s.deformable_bodies[0]].name.c_str());
-  if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s, fracture_cells));
+  if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s, fracture_cells, previous));
   PetscCall(FDEMSceneCreate(comm, &s.sc));
   if (s.rb) PetscCall(FDEMSceneSetRigid(s.sc, s.rb));
   if (s.dfm) PetscCall(FDEMSceneSetDeformable(s.sc, s.dfm));
@@ -796,7 +797,7 @@ PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells, const
   PetscBool given; // the bodies' overlaps were made by the run, as at a restart
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
   if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
-  PetscCall(SimBuild(s.comm, *s.scene, s.meshes, n, all));
+  PetscCall(SimBuild(s.comm, *s.scene, s.meshes, n, all, s.dfm));
   if (n.dfm) PetscCall(FDEMDeformableContinueOutput(n.dfm, s.dfm));
   if (n.rb) PetscCall(FDEMRigidContinueOutput(n.rb, s.rb));
   PetscCall(SimReadCheckpoint(n, file.c_str(), &t1, &step1, &dt1));

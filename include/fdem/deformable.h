@@ -112,7 +112,12 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable dfm, co
    had and each new joint starting intact. ViewJointState saves the inserted tetrahedra
    (`fracture_cells`); ReadFractureCells reads them back from a checkpoint (free with
    PetscFree), for a restart to build the same split. ContinueOutput carries the frames
-   written by one model to its successor's WriteHDF5 (the same file). */
+   written by one model to its successor's WriteHDF5 (the same file). ReuseSetUp, before
+   SetUp, lets the successor take from its predecessor (a set-up model of the same mesh) what
+   set-up derives from the input mesh alone: its faces sorted for splitting, and the joints'
+   frequency and the check of every joint that insertion may make; where the mesh, the
+   bodies' materials, their fracture properties, insertion or zones differ, SetUp makes them
+   anew (the same answers either way). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetFractureInsertion(FDEMDeformable dfm, const char *body, PetscReal ratio);
 PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureCells(FDEMDeformable dfm, PetscInt n, const PetscInt cells[]);
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetFractureCells(FDEMDeformable dfm, PetscInt *n, const PetscInt *cells[]);
@@ -120,6 +125,7 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable dfm, V
 PETSC_EXTERN PetscErrorCode FDEMDeformableReadFractureCells(MPI_Comm comm, PetscViewer viewer, PetscInt *n, PetscInt *cells[]);
 PETSC_EXTERN PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable dfm, PetscViewer viewer, Vec natural);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContinueOutput(FDEMDeformable to, FDEMDeformable from);
+PETSC_EXTERN PetscErrorCode FDEMDeformableReuseSetUp(FDEMDeformable to, FDEMDeformable from);
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at

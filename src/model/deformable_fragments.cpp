@@ -323,6 +323,53 @@ PetscErrorCode fdem::model::DeformableJointCounts(FDEMDeformable d, PetscInt *nb
   PetscFunctionReturn(0);
 }
 
+// The parts of the fracture topology that the joints' states do not change (TopologyCache).
+// Collective.
+static PetscErrorCode MakeTopologyCache(FDEMDeformable d, const std::vector<char> &fracturable, bool sharing) {
+  const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nbodies = (PetscInt)fracturable.size();
+  auto           c  = std::make_unique<fdem::model::TopologyCache>();
+  const auto     node = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
+  PetscFunctionBegin;
+  c->shared.assign(nl, 0);
+  if (sharing) PetscCall(fdem::model::DeformableSharedNodes(d, c->shared));
+  std::vector<int> uses(nl, 0);
+  for (PetscInt e = 0; e < nc; ++e)
+    for (int a = 0; a < 4; ++a) ++uses[node(e, a)];
+  c->split.assign(nc, 0);
+  for (PetscInt e = 0; e < nc; ++e) {
+    bool lone = fracturable[d->ed.body[e]] != 0;
+    for (int a = 0; a < 4 && lone; ++a) lone = uses[node(e, a)] == 1 && !c->shared[node(e, a)];
+    c->split[e] = lone;
+  }
+  // cells of one body sharing a node (a split node has one cell): the first cell at each node,
+  // and a map for the nodes that cells of a second body share
+  c->cells = fdem::model::LabelClasses(d->cell_gid);
+  std::vector<PetscInt>                   first(nl, -1);
+  std::unordered_map<long long, PetscInt> other;
+  for (PetscInt e = 0; e < nc; ++e)
+    if (!c->split[e])
+      for (int a = 0; a < 4; ++a) {
+        const PetscInt f = first[node(e, a)];
+        if (f < 0) first[node(e, a)] = e;
+        else if (d->ed.body[f] == d->ed.body[e]) c->cells.Unite(f, e);
+        else {
+          const auto it = other.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
+          if (!it.second) c->cells.Unite(it.first->second, e);
+        }
+      }
+  for (PetscInt e = 0; e < nc; ++e) c->cells.Find(e); // every path compressed
+  c->froot.assign(12 * (std::size_t)nc, 0);
+  if (d->jfsf) {
+    const PetscInt *degree;
+    PetscCall(PetscSFComputeDegreeBegin(d->jfsf, &degree));
+    PetscCall(PetscSFComputeDegreeEnd(d->jfsf, &degree));
+    for (PetscInt r = 0; r < 12 * nc; r += 3)
+      if (degree[r] || degree[r + 1] || degree[r + 2]) c->glued.push_back(r);
+  }
+  d->topology_cache = std::move(c);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t) {
   constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
@@ -337,23 +384,17 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   }
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
   t.fracturable          = FracturableBodies(d);
-  const PetscInt nbodies = (PetscInt)t.fracturable.size();
   const auto     frac    = [&](PetscInt e) { return t.fracturable[d->ed.body[e]] != 0; };
   const auto     node    = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
   // Nodes shared across ranks (a body that is not fracturable, or the unsplit part of a body
   // with fracture zones; a split node has one cell, on one rank). A cell is split when none
-  // of its nodes is another cell's, here or elsewhere.
-  const bool        sharing = d->size > 1 && (d->zoned || std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end());
-  std::vector<char> shared(nl, 0);
-  if (sharing) PetscCall(DeformableSharedNodes(d, shared));
-  std::vector<int> uses(nl, 0);
-  for (PetscInt e = 0; e < nc; ++e)
-    for (int a = 0; a < 4; ++a) ++uses[node(e, a)];
-  const auto split = [&](PetscInt e) {
-    bool lone = frac(e);
-    for (int a = 0; a < 4 && lone; ++a) lone = uses[node(e, a)] == 1 && !shared[node(e, a)];
-    return lone;
-  };
+  // of its nodes is another cell's, here or elsewhere. These, the cells' classes over shared
+  // nodes and the faces that joints glue do not change while the joints step: made once.
+  const bool sharing = d->size > 1 && (d->zoned || std::find(t.fracturable.begin(), t.fracturable.end(), 0) != t.fracturable.end());
+  if (!d->topology_cache) PetscCall(MakeTopologyCache(d, t.fracturable, sharing));
+  fdem::model::TopologyCache &tc = *d->topology_cache;
+  const std::vector<char>    &shared = tc.shared;
+  const auto split = [&](PetscInt e) { return tc.split[e] != 0; };
   const auto &ca = d->jcell_a; // each joint's tetrahedron a (split: its nodes are its own)
   // 1. Free faces and broken joints. Over the joint-face SF (jfsf) the rank of tetrahedron b
   //    learns, at the face a joint glues, whether an intact joint glues it (kGlued) or a broken
@@ -364,7 +405,8 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   std::vector<unsigned char>           freef(nc, 0), damaged(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
-  std::vector<PetscInt>                froot(12 * (std::size_t)nc), fleaf(3 * (std::size_t)nj), root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
+  std::vector<PetscInt>               &froot = tc.froot;
+  std::vector<PetscInt>                fleaf(3 * (std::size_t)nj), root(3 * (std::size_t)nl), leaf(9 * (std::size_t)nj);
   for (PetscInt e = 0; e < nc; ++e)
     if (frac(e)) freef[e] = 0xF; // for an unsplit cell, its faces not glued; the contact adapter keeps those on the body's surface
   if (d->jfsf) {
@@ -389,51 +431,34 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       fleaf[3 * j + 1] = !broken && remote ? 1 : kNoFace;
       fleaf[3 * j + 2] = hurt ? 1 : kNoFace; // tetrahedron b has a damaged joint face
     }
-    std::fill(froot.begin(), froot.end(), kNoFace);
+    for (PetscInt r : tc.glued) froot[r] = froot[r + 1] = froot[r + 2] = kNoFace; // (the other roots get no leaf)
     PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), froot.data(), MPI_MAX));
     PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), froot.data(), MPI_MAX));
-    for (PetscInt e = 0; e < nc; ++e)
-      for (int o = 0; o < 4; ++o) {
-        const PetscInt *F = &froot[12 * e + 3 * o];
-        if (F[0] == kGlued) freef[e] &= (unsigned char)~(1u << o);
-        else if (F[0] >= 0) pairs.push_back({std::min(F[0], d->cell_gid[e]), std::max(F[0], d->cell_gid[e])});
-        if (F[1] == 1) {
-          cbnd.push_back(e);
-          for (int q = 0; q < 4; ++q)
-            if (q != o) remote_b.push_back(node(e, q));
-        }
-        if (F[2] == 1) damaged[e] = 1;
+    for (PetscInt r : tc.glued) {
+      const PetscInt  e = r / 12, o = (r % 12) / 3;
+      const PetscInt *F = &froot[r];
+      if (F[0] == kGlued) freef[e] &= (unsigned char)~(1u << o);
+      else if (F[0] >= 0) pairs.push_back({std::min(F[0], d->cell_gid[e]), std::max(F[0], d->cell_gid[e])});
+      if (F[1] == 1) {
+        cbnd.push_back(e);
+        for (int q = 0; q < 4; ++q)
+          if (q != o) remote_b.push_back(node(e, q));
       }
+      if (F[2] == 1) damaged[e] = 1;
+    }
     std::sort(remote_b.begin(), remote_b.end());
     remote_b.erase(std::unique(remote_b.begin(), remote_b.end()), remote_b.end());
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
   std::sort(pairs.begin(), pairs.end());
   // 2. This rank's classes: node keys (the nodes of a split cell's free faces flagged) and fragments.
-  LabelClasses nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells(d->cell_gid);
+  LabelClasses nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells = tc.cells;
   for (PetscInt e = 0; e < nc; ++e)
     if (split(e))
       for (int o = 0; o < 4; ++o)
         if (freef[e] >> o & 1)
           for (int q = 0; q < 4; ++q)
             if (q != o) nodes.flag[node(e, q)] = 1;
-  {
-    // cells of one body sharing a node (a split node has one cell): the first cell at each node,
-    // and a map for the nodes that cells of a second body share
-    std::vector<PetscInt>                   first(nl, -1);
-    std::unordered_map<long long, PetscInt> other;
-    for (PetscInt e = 0; e < nc; ++e)
-      if (!split(e))
-        for (int a = 0; a < 4; ++a) {
-          const PetscInt f = first[node(e, a)];
-          if (f < 0) first[node(e, a)] = e;
-          else if (d->ed.body[f] == d->ed.body[e]) cells.Unite(f, e);
-          else {
-            const auto it = other.emplace((long long)node(e, a) * nbodies + d->ed.body[e], e);
-            if (!it.second) cells.Unite(it.first->second, e);
-          }
-        }
-  }
   for (PetscInt j = 0; j < nj; ++j)
     if (d->jnode_b[j][0] >= 0 && !fdem::kernels::JointBroken(d->jstate[j].data())) {
       for (int i = 0; i < 3; ++i) nodes.Unite(d->jnode_a[j][i], d->jnode_b[j][i]);

@@ -97,6 +97,18 @@ struct LabelClasses {
   PetscInt Label(PetscInt i) { return label[Find(i)]; }
 };
 
+// What DeformableFractureTopology needs that the joints' states do not change, made at its
+// first call on a model (the mesh and its split are fixed after set-up): the nodes shared
+// across ranks, the split cells, the classes of the cells that share nodes (every path
+// compressed, so that a copy finds its roots in one step), and the faces of tetrahedra b that
+// joints glue, with the joint-face SF's root buffer kept between calls.
+struct TopologyCache {
+  std::vector<char>     shared, split;   // per local node; per local cell
+  LabelClasses          cells{std::vector<PetscInt>{}};
+  std::vector<PetscInt> glued;           // 12 e + 3 o for each face o of local cell e with a joint's leaves
+  std::vector<PetscInt> froot;           // the SF's roots, 12 per cell (kept: only the glued are reset)
+};
+
 // Completes classes that reach other ranks (deformable_fragments.cpp, where the method is
 // described): c's classes at this rank's boundaries (those of the elements in `boundary`) and
 // the links `edges` (a class's label here, the label of a class elsewhere that touches it; sorted

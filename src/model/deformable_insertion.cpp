@@ -25,7 +25,7 @@ namespace {
 fdem::kernels::SplitMesh SplitWith(FDEMDeformable d, const std::vector<PetscInt> &cells) {
   std::vector<char> flags = d->box_split;
   for (PetscInt t : cells) flags[t] = 1;
-  return d->splitter->Split(flags);
+  return d->insertion_input->splitter->Split(flags);
 }
 
 } // namespace
@@ -342,7 +342,7 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   std::vector<PetscInt> all(off[d->size]), add;
   PetscCallMPI(MPI_Gatherv(mine.data(), cnt, MPIU_INT, all.data(), cnts.data(), off.data(), MPIU_INT, 0, d->comm));
   if (d->rank == 0) {
-    const auto      &M = d->input_mesh;
+    const auto      &M = d->insertion_input->mesh;
     std::vector<char> hot(M.nodes.size(), 0), take(M.tets.size(), 0);
     for (PetscInt t : all)
       if (!d->tet_split[t])
@@ -360,6 +360,14 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   *n = na;
   PetscCall(PetscMalloc1(na + 1, cells));
   std::copy(add.begin(), add.end(), *cells);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableReuseSetUp(FDEMDeformable to, FDEMDeformable from) {
+  PetscFunctionBegin;
+  PetscCall(CheckNotSetUp(to, "FDEMDeformableReuseSetUp"));
+  PetscCall(CheckSetUp(from, "FDEMDeformableReuseSetUp"));
+  to->reuse = from->insertion_input; // (rank 0; SetUp checks that it fits)
   PetscFunctionReturn(0);
 }
 

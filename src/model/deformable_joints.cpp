@@ -94,15 +94,37 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
         }
   }
   if (!any) return;
+  std::shared_ptr<fdem::model::deformable::InsertionInput> made; // (made here, not reused)
   if (!d->insertion.empty()) { // kept to find the split of a checkpoint written before some insertion
-    d->input_mesh = d->mesh;
     d->split_body = split;
     d->box_split  = in_zone;
     for (PetscInt t : d->inserted) in_zone[t] = 1;
     d->tet_split = in_zone;
-    d->splitter  = std::make_unique<fdem::kernels::JointSplitter>(d->input_mesh, split); // (the faces sorted once for this set-up's splits and a load's)
+    // what the joints' frequency and the check of the joints that may come depend on besides
+    // the mesh: per body its material's density and fracture properties, whether it is
+    // fracturable and inserts joints; the zones' tetrahedra
+    std::vector<double> key;
+    for (std::size_t b = 0; b < mob.size(); ++b) {
+      const fdem::kernels::JointMaterial J = split[b] ? d->fracture.at(d->materials[mob[b]].name) : fdem::kernels::JointMaterial{};
+      key.insert(key.end(), {(double)split[b], (double)inserting[b], d->materials[mob[b]].rho, J.tensile_strength, J.cohesion, J.friction_angle, J.GI, J.GII, J.penalty});
+    }
+    for (char z : d->box_split) key.push_back(z);
+    const auto same = [&](const fdem::model::deformable::InsertionInput &r) {
+      const auto &M = r.mesh;
+      return r.key == key && M.tets == d->mesh.tets && M.body == d->mesh.body && M.nodes.size() == d->mesh.nodes.size() &&
+             std::equal(M.nodes.begin(), M.nodes.end(), d->mesh.nodes.begin(), [](const fdem::kernels::Vec3 &a, const fdem::kernels::Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; });
+    };
+    if (d->reuse && same(*d->reuse)) d->insertion_input = d->reuse; // a model of this mesh and scene made it
+    else {
+      made           = std::make_shared<fdem::model::deformable::InsertionInput>();
+      made->mesh     = d->mesh;
+      made->key      = key;
+      made->splitter = std::make_unique<fdem::kernels::JointSplitter>(made->mesh, split); // (the faces sorted once for every split of this mesh)
+      d->insertion_input = made;
+    }
+    d->reuse.reset();
   }
-  fdem::kernels::SplitMesh s = d->splitter ? d->splitter->Split(in_zone) : fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
+  fdem::kernels::SplitMesh s = d->insertion_input ? d->insertion_input->splitter->Split(in_zone) : fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
     const auto &x = s.mesh.nodes;
@@ -124,10 +146,18 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   // With joints inserted during the run, the estimate is that of the bodies split wherever
   // joints may come (the time step is chosen at the start).
   fdem::kernels::SplitMesh full;
+  if (!d->insertion.empty() && !made) { // the same input mesh, materials and insertion bodies: the same check and frequency
+    d->joint_omega  = d->insertion_input->joint_omega;
+    d->mesh         = std::move(s.mesh);
+    d->split_parent = std::move(s.parent);
+    d->split_tet    = std::move(s.split);
+    d->joints_input = std::move(s.joints);
+    return;
+  }
   if (!d->insertion.empty()) {
     std::vector<char> all = in_zone;
     for (std::size_t t = 0; t < all.size(); ++t) all[t] = all[t] || inserting[d->mesh.body[t]];
-    full = d->splitter->Split(all);
+    full = made->splitter->Split(all);
     for (const auto &j : full.joints) { // a joint that may come must have a valid law (checked now, not during the run)
       const auto  &x = full.mesh.nodes;
       const double h = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
@@ -162,6 +192,7 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   for (std::size_t i = 0; i < K.size(); ++i)
     if (K[i] > 0 && m[i] > 0) w2 = std::fmax(w2, 2 * K[i] / m[i]);
   d->joint_omega = std::sqrt(w2);
+  if (made) made->joint_omega = d->joint_omega;
   d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
   d->split_tet    = std::move(s.split);

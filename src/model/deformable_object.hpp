@@ -66,6 +66,17 @@ struct JointOffset {
 };
 } // namespace fdem::model::deformable
 
+namespace fdem::model::deformable {
+// What the set-up of a body with joints inserted during the run derives from its input mesh
+// alone (rank 0): the same for every model that a run's insertions build.
+struct InsertionInput {
+  fdem::kernels::TetMesh                        mesh;        // the mesh before the split
+  std::vector<double>                           key;         // per body: fracturable, inserting, density, fracture properties; then the zones' tetrahedra
+  std::unique_ptr<fdem::kernels::JointSplitter> splitter;    // its splits (the faces sorted once), of `mesh` here
+  double                                        joint_omega = 0; // the joints' largest frequency with every tetrahedron that may split split
+};
+} // namespace fdem::model::deformable
+
 struct _n_FDEMDeformable {
   MPI_Comm    comm;
   PetscMPIInt rank = 0, size = 1;
@@ -107,8 +118,8 @@ struct _n_FDEMDeformable {
   std::map<std::string, PetscReal>        insertion;      // by body name: the stress ratio at which its tetrahedra get joints
   std::vector<PetscInt>                   inserted;       // sorted input tetrahedra split by insertion (all ranks)
   std::vector<PetscReal>                  body_insertion; // per body: its ratio, 0 without insertion (all ranks, after set-up)
-  fdem::kernels::TetMesh                  input_mesh;     // rank 0, with insertion: the mesh before the split
-  std::unique_ptr<fdem::kernels::JointSplitter> splitter; // rank 0, with insertion: the splits of input_mesh (its faces sorted once)
+  std::shared_ptr<const fdem::model::deformable::InsertionInput> insertion_input; // rank 0, with insertion (FDEMDeformableReuseSetUp shares it between the models of one run)
+  std::shared_ptr<const fdem::model::deformable::InsertionInput> reuse;           // rank 0: the one FDEMDeformableReuseSetUp gave, for SetUp
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
   std::vector<char>                       tet_split;      // rank 0, with insertion: the tetrahedra split now
   std::vector<PetscInt>                   origin_of;      // rank 0: the inserted cells of the split that node_origin and joint_origin map from
@@ -152,6 +163,7 @@ struct _n_FDEMDeformable {
   PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
   fdem::model::FractureTopology           topology;       // the last DeformableFractureTopology, for its counts of broken and damaged joints (each set only grows while the joints step)
   bool                                    topology_made = false;
+  std::unique_ptr<fdem::model::TopologyCache> topology_cache; // (DeformableFractureTopology's parts that the joints' states do not change)
   bool                                    zoned = false;  // a fracture zone split part of a body (cells of fracturable bodies may share nodes)
 };
 

@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <set>
@@ -67,14 +68,16 @@ std::vector<PetscInt> CellsBelow(const fdem::kernels::TetMesh &M, double xmax, d
 }
 
 // (On an error *out holds the model made so far, for the caller to destroy.)
-PetscErrorCode Make(MPI_Comm comm, const std::vector<PetscInt> &cells, PetscReal ratio, FDEMDeformable *out) {
+// reuse: a model whose set-up products to offer (FDEMDeformableReuseSetUp); penalty: rock's joint penalty.
+PetscErrorCode Make(MPI_Comm comm, const std::vector<PetscInt> &cells, PetscReal ratio, FDEMDeformable *out, FDEMDeformable reuse = nullptr, PetscReal penalty = 1e10) {
   FDEMDeformable d;
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableCreate(comm, &d));
   *out = d;
   PetscCall(FDEMDeformableAddMaterial(d, "rock", 1e9, 0.0, 2000, 0, FDEM_MATERIAL_MUNJIZA_CST));
   PetscCall(FDEMDeformableAddMaterial(d, "steel", 2e11, 0.3, 7800, 0, FDEM_MATERIAL_MUNJIZA_CST));
-  PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e6, 3e6, 30, 50, 200, 1e10));
+  PetscCall(FDEMDeformableSetMaterialFracture(d, "rock", 1e6, 3e6, 30, 50, 200, penalty));
+  if (reuse) PetscCall(FDEMDeformableReuseSetUp(d, reuse));
   PetscCall(SetKernelMesh(d, Box()));
   PetscCall(FDEMDeformableSetBodyMaterial(d, "rock", "rock"));
   PetscCall(FDEMDeformableSetBodyMaterial(d, "steel", "steel"));
@@ -453,6 +456,26 @@ int main(int argc, char **argv) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "inserted under load: largest net force on an interior copy %.2g N and %.2g N (unloaded joints: %.3g N; a face's load %.3g N); stored energy from the insertion %.2g J, %.2g J\n", fA, fB, foff, load, eA, eB));
     for (Vec *w : {&FA, &FB, &Foff, &FBb}) PetscCall(VecDestroy(w));
     for (FDEMDeformable *w : {&Z, &A6, &B6, &Boff, &B6b}) PetscCall(FDEMDeformableDestroy(w));
+  }
+  // 7. a model set up with what its predecessor derived from the input mesh
+  //    (FDEMDeformableReuseSetUp) is the model set up without it; one whose joints differ
+  //    (another penalty) makes its own
+  {
+    FDEMDeformable R, Q, Q0;
+    PetscReal      wB, wR, wQ, wQ0;
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &R, A));
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Q, A, 4e10));
+    PetscCall(Make(PETSC_COMM_WORLD, cellsB, 0.5, &Q0, nullptr, 4e10));
+    for (auto [m, w] : {std::pair{B, &wB}, std::pair{R, &wR}, std::pair{Q, &wQ}, std::pair{Q0, &wQ0}}) PetscCall(FDEMDeformableGetJointFrequency(m, w));
+    PetscInt differ = R->nnodes_global != B->nnodes_global || R->njoints_global != B->njoints_global || R->jlaw.size() != B->jlaw.size() || R->cell_gid != B->cell_gid || R->node_gid != B->node_gid;
+    for (size_t j = 0; !differ && j < R->jlaw.size(); ++j) differ += std::memcmp(&R->jlaw[j], &B->jlaw[j], sizeof(fdem::kernels::JointLaw)) != 0 || R->jgid[j] != B->jgid[j];
+    PetscInt shared[2] = {R->insertion_input == A->insertion_input, Q->insertion_input != A->insertion_input}; // (rank 0 holds them; elsewhere both null)
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &differ, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    PetscCallMPI(MPI_Bcast(shared, 2, MPIU_INT, 0, PETSC_COMM_WORLD));
+    CHECK(differ == 0 && wR == wB && shared[0], "a model set up reusing A's input differs from B, set up alone (%" PetscInt_FMT " differences; joint frequency %.17g against %.17g; %s A's)", differ, wR, wB, shared[0] ? "shares" : "does not share");
+    CHECK(shared[1] && wQ == wQ0 && wQ > 1.5 * wB, "a model with another joint penalty offered A's input: %s, joint frequency %.17g against %.17g set up alone (B: %g)", shared[1] ? "made its own" : "took it", wQ, wQ0, wB);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "set up reusing A's input: the same model as B (joint frequency %.6g /s); with 4 times the penalty it makes its own (%.6g /s)\n", wR, wQ));
+    for (FDEMDeformable *w : {&R, &Q, &Q0}) PetscCall(FDEMDeformableDestroy(w));
   }
   PetscCall(FDEMDeformableDestroy(&A));
   PetscCall(FDEMDeformableDestroy(&B));
