@@ -94,6 +94,8 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   conn_.clear();
   prims_.clear();
   faces_.clear();
+  // the cells taken and their surfaces first, so that the lists are allocated once
+  std::vector<std::pair<PetscInt, char>> taken;
   for (size_t e = 0; e < nc; ++e) {
     const bool frac = t && t->fracturable[A.body[e]];
     char       surf = A.surf[e];
@@ -108,8 +110,14 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
       if (which_ == Cells::BoundaryVertex)
         for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
     }
-    if (!on) continue;
-    Primitive p;
+    if (on) taken.push_back({(PetscInt)e, surf});
+  }
+  conn_.reserve(taken.size());
+  prims_.reserve(taken.size());
+  faces_.reserve(taken.size());
+  for (const auto &[e, surf] : taken) {
+    const bool frac = t && t->fracturable[A.body[e]];
+    Primitive  p;
     p.body = A.body[e];
     p.elem = A.gid[e];
     p.key  = A.gid[e];

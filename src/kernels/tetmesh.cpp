@@ -70,20 +70,20 @@ int OrientTets(TetMesh &mesh) { return OrientTets(mesh.nodes, mesh.tets, mesh.bo
 // level by level, Gray-code the result, then interleave the bits.
 std::uint64_t HilbertIndex(const std::uint32_t X_in[3], int bits) {
   std::uint32_t X[3] = {X_in[0], X_in[1], X_in[2]};
+  // (without branches: the bits of a centroid are as good as random, and mispredicted branches
+  // were most of a key's cost)
   for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1) {
     const std::uint32_t p = q - 1;
     for (int i = 0; i < 3; ++i) {
-      if (X[i] & q) X[0] ^= p;
-      else {
-        const std::uint32_t t = (X[0] ^ X[i]) & p;
-        X[0] ^= t, X[i] ^= t;
-      }
+      const std::uint32_t set = 0u - (std::uint32_t)((X[i] & q) != 0); // all ones where bit q of X[i] is set
+      const std::uint32_t t   = (X[0] ^ X[i]) & p & ~set;               // else X[0] and X[i] swap their low bits
+      X[0] ^= (p & set) | t;                                            // where set, X[0]'s low bits are inverted
+      X[i] ^= t;
     }
   }
   for (int i = 1; i < 3; ++i) X[i] ^= X[i - 1];
   std::uint32_t t = 0;
-  for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1)
-    if (X[2] & q) t ^= q - 1;
+  for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1) t ^= (q - 1) & (0u - (std::uint32_t)((X[2] & q) != 0));
   for (int i = 0; i < 3; ++i) X[i] ^= t;
   std::uint64_t key = 0;
   for (int b = bits - 1; b >= 0; --b)
