@@ -327,18 +327,30 @@ TEST(CST, NodalForcesAreTAreaOverThreeAndPullInUnderTension) {
   for (int i = 0; i < 4; ++i) EXPECT_LT(norm(At(f, i) - Vec3{1, 1, 1} - s.force[i]), 1e-15);
 }
 
-TEST(CST, BatchedKernelEqualsElementSumAcrossMaterialsAndRanges) {
+// A jittered box whose elements take three viscous materials, one of each model, in interleaved
+// runs of 7, moved by up to `jitter` at random (seed) and given velocities up to 10 jitter.
+struct ThreeMaterials {
+  ElementData         d;
+  std::vector<double> x, v;
+};
+ThreeMaterials ThreeMaterialBox(unsigned seed, double jitter) {
   TetMesh mesh = JitteredBox(3);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) mesh.body[t] = (t / 7) % 3;  // interleaved runs
   mesh.body_names = {"a", "b", "c"};
   const std::vector<Material> mats = {Mat(1.0, 0.3, 1.0, 0.1, kMunjizaCST), Mat(2.0, 0.2, 1.0, 0.2, kNeoHookean),
                                       Mat(3.0, 0.1, 1.0, 0.3, kSmallStrainLinear)};
-  const ElementData d = BuildElementData(mesh, mats, {0, 1, 2});
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-0.02, 0.02);
-  std::vector<double> x, v;
-  for (const auto &p : mesh.nodes) x.insert(x.end(), {p.x + u(rng), p.y + u(rng), p.z + u(rng)});
-  for (std::size_t i = 0; i < x.size(); ++i) v.push_back(10 * u(rng));
+  ThreeMaterials b{BuildElementData(mesh, mats, {0, 1, 2}), {}, {}};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  for (const auto &p : mesh.nodes) b.x.insert(b.x.end(), {p.x + u(rng), p.y + u(rng), p.z + u(rng)});
+  for (std::size_t i = 0; i < b.x.size(); ++i) b.v.push_back(10 * u(rng));
+  return b;
+}
+
+TEST(CST, BatchedKernelEqualsElementSumAcrossMaterialsAndRanges) {
+  ThreeMaterials box = ThreeMaterialBox(7, 0.02);
+  const ElementData &d = box.d;
+  std::vector<double> &x = box.x, &v = box.v;
   // with velocities and without, both through the blocked loop: its gathers (four elements at a
   // time where the processor has AVX2, one at a time in runs shorter than four, node 0 included)
   // and the velocity gradient of the viscous materials
@@ -365,17 +377,9 @@ TEST(CST, BatchedKernelEqualsElementSumAcrossMaterialsAndRanges) {
 }
 
 TEST(CST, CellStressIsEvaluateTetsStressToTheBit) {
-  TetMesh mesh = JitteredBox(3);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) mesh.body[t] = (t / 7) % 3;
-  mesh.body_names = {"a", "b", "c"};
-  const std::vector<Material> mats = {Mat(1.0, 0.3, 1.0, 0.1, kMunjizaCST), Mat(2.0, 0.2, 1.0, 0.2, kNeoHookean),
-                                      Mat(3.0, 0.1, 1.0, 0.3, kSmallStrainLinear)};
-  const ElementData d = BuildElementData(mesh, mats, {0, 1, 2});
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  std::vector<double> x, v;
-  for (const auto &p : mesh.nodes) x.insert(x.end(), {p.x + u(rng), p.y + u(rng), p.z + u(rng)});
-  for (std::size_t i = 0; i < x.size(); ++i) v.push_back(10 * u(rng));
+  ThreeMaterials box = ThreeMaterialBox(11, 0.05);
+  const ElementData &d = box.d;
+  std::vector<double> &x = box.x, &v = box.v;
   x[3 * 21] += 0.9; // some elements inverted: no stress
   int inverted = 0, compared = 0;
   for (const double *vel : {static_cast<const double *>(v.data()), static_cast<const double *>(nullptr)})
