@@ -29,6 +29,39 @@ using fdem::kernels::norm;
 
 static_assert(sizeof(JointLaw) == 14 * sizeof(double), "JointLaw is sent as its first 13 doubles; face_compression is set on each rank");
 
+// The element size of a joint's law: the mean edge of its triangle.
+static double JointSize(const fdem::kernels::SplitMesh &f, const fdem::kernels::JointFace &j) {
+  const auto &x = f.mesh.nodes;
+  return (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
+}
+
+// The joints' largest frequency in the split f, estimated node by node: a joint point of area
+// A/3 is a spring of stiffness p (A/3) / h (the law's slope at zero opening or slip, p / h per
+// area) between a node pair of the two sides, half of it on each of its edge's nodes; a node
+// of mass m tied by springs of total stiffness K to its twins has omega^2 <= 2 K / m (the row
+// sum of its stiffness, Gershgorin).
+static double JointFrequency(FDEMDeformable d, const std::vector<int> &mob, const fdem::kernels::SplitMesh &f) {
+  std::vector<double> K(f.mesh.nodes.size(), 0.0), m(f.mesh.nodes.size(), 0.0);
+  for (std::size_t t = 0; t < f.mesh.tets.size(); ++t) {
+    const double q = d->materials[mob[f.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(f.mesh, (int)t)) / 4;
+    for (int n : f.mesh.tets[t]) m[n] += q;
+  }
+  for (const auto &J : f.joints) {
+    const auto  &x = f.mesh.nodes;
+    const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]], x[J.a[2]] - x[J.a[0]]));
+    const double p = d->fracture.at(d->materials[mob[f.mesh.body[J.tet_a]]].name).penalty;
+    const double k = p * (A / 3) / JointSize(f, J); // per point; a node gets two halves
+    for (int i = 0; i < 3; ++i) {
+      K[J.a[i]] += k;
+      K[J.b[i]] += k;
+    }
+  }
+  double w2 = 0;
+  for (std::size_t i = 0; i < K.size(); ++i)
+    if (K[i] > 0 && m[i] > 0) w2 = std::fmax(w2, 2 * K[i] / m[i]);
+  return std::sqrt(w2);
+}
+
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
   d->split_tet.clear();
@@ -127,72 +160,34 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
   fdem::kernels::SplitMesh s = d->insertion_input ? d->insertion_input->splitter->Split(in_zone) : fdem::kernels::SplitForJoints(d->mesh, split, in_zone);
   d->laws_input.reserve(s.joints.size());
   for (const auto &j : s.joints) {
-    const auto &x = s.mesh.nodes;
-    // the element size of the law: the mean edge of the joint's triangle
-    const double h   = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
-    const int    b   = s.mesh.body[j.tet_a];
-    const auto  &mat = d->fracture.at(d->materials[mob[b]].name);
+    const int   b   = s.mesh.body[j.tet_a];
+    const auto &mat = d->fracture.at(d->materials[mob[b]].name);
     try {
-      d->laws_input.push_back(fdem::kernels::MakeJointLaw(mat, h));
+      d->laws_input.push_back(fdem::kernels::MakeJointLaw(mat, JointSize(s, j)));
     } catch (const fdem::kernels::InputError &e) {
       throw fdem::kernels::InputError("body '" + s.mesh.body_names[b] + "', the joint between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
     }
   }
-  // The joints' largest frequency, estimated node by node: a joint point of area A/3 is a
-  // spring of stiffness p (A/3) / h (the law's slope at zero opening or slip, p / h per
-  // area) between a node pair of the two sides, half of it on each of its edge's nodes;
-  // a node of mass m tied by springs of total stiffness K to its twins has
-  // omega^2 <= 2 K / m (the row sum of its stiffness, Gershgorin).
-  // With joints inserted during the run, the estimate is that of the bodies split wherever
-  // joints may come (the time step is chosen at the start).
-  fdem::kernels::SplitMesh full;
-  if (!d->insertion.empty() && !made) { // the same input mesh, materials and insertion bodies: the same check and frequency
-    d->joint_omega  = d->insertion_input->joint_omega;
-    d->mesh         = std::move(s.mesh);
-    d->split_parent = std::move(s.parent);
-    d->split_tet    = std::move(s.split);
-    d->joints_input = std::move(s.joints);
-    return;
-  }
-  if (!d->insertion.empty()) {
+  // The joints' largest frequency. With joints inserted during the run, the estimate is that
+  // of the bodies split wherever joints may come (the time step is chosen at the start), and
+  // every joint that may come must have a valid law (checked now, not during the run); a model
+  // of the same input mesh, materials and insertion bodies made both already.
+  if (d->insertion.empty()) d->joint_omega = JointFrequency(d, mob, s);
+  else if (!made) d->joint_omega = d->insertion_input->joint_omega;
+  else {
     std::vector<char> all = in_zone;
     for (std::size_t t = 0; t < all.size(); ++t) all[t] = all[t] || inserting[d->mesh.body[t]];
-    full = made->splitter->Split(all);
-    for (const auto &j : full.joints) { // a joint that may come must have a valid law (checked now, not during the run)
-      const auto  &x = full.mesh.nodes;
-      const double h = (norm(x[j.a[1]] - x[j.a[0]]) + norm(x[j.a[2]] - x[j.a[1]]) + norm(x[j.a[0]] - x[j.a[2]])) / 3;
-      const int    b = full.mesh.body[j.tet_a];
+    const fdem::kernels::SplitMesh full = made->splitter->Split(all);
+    for (const auto &j : full.joints) {
+      const int b = full.mesh.body[j.tet_a];
       try {
-        (void)fdem::kernels::MakeJointLaw(d->fracture.at(d->materials[mob[b]].name), h);
+        (void)fdem::kernels::MakeJointLaw(d->fracture.at(d->materials[mob[b]].name), JointSize(full, j));
       } catch (const fdem::kernels::InputError &e) {
         throw fdem::kernels::InputError("body '" + full.mesh.body_names[b] + "', the joint that insertion would make between elements " + std::to_string(j.tet_a) + " and " + std::to_string(j.tet_b) + ": " + e.what());
       }
     }
+    d->joint_omega = made->joint_omega = JointFrequency(d, mob, full);
   }
-  const fdem::kernels::SplitMesh &f = d->insertion.empty() ? s : full;
-  std::vector<double> K(f.mesh.nodes.size(), 0.0), m(f.mesh.nodes.size(), 0.0);
-  for (std::size_t t = 0; t < f.mesh.tets.size(); ++t) {
-    const double q = d->materials[mob[f.mesh.body[t]]].rho * std::fabs(fdem::kernels::TetSignedVolume(f.mesh, (int)t)) / 4;
-    for (int n : f.mesh.tets[t]) m[n] += q;
-  }
-  for (std::size_t j = 0; j < f.joints.size(); ++j) {
-    const auto  &J = f.joints[j];
-    const auto  &x = f.mesh.nodes;
-    const double A = 0.5 * norm(fdem::kernels::cross(x[J.a[1]] - x[J.a[0]], x[J.a[2]] - x[J.a[0]]));
-    // the law's penalty and size (MakeJointLaw: the mean edge of the triangle)
-    const double h = (norm(x[J.a[1]] - x[J.a[0]]) + norm(x[J.a[2]] - x[J.a[1]]) + norm(x[J.a[0]] - x[J.a[2]])) / 3;
-    const double p = d->fracture.at(d->materials[mob[f.mesh.body[J.tet_a]]].name).penalty;
-    const double k = p * (A / 3) / h; // per point; a node gets two halves
-    for (int i = 0; i < 3; ++i) {
-      K[J.a[i]] += k;
-      K[J.b[i]] += k;
-    }
-  }
-  double w2 = 0;
-  for (std::size_t i = 0; i < K.size(); ++i)
-    if (K[i] > 0 && m[i] > 0) w2 = std::fmax(w2, 2 * K[i] / m[i]);
-  d->joint_omega = std::sqrt(w2);
-  if (made) made->joint_omega = d->joint_omega;
   d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
   d->split_tet    = std::move(s.split);
@@ -698,38 +693,48 @@ static void GraphPotentials(int n, const std::vector<std::pair<int, int>> &edges
       for (int k = 0; k < 3; ++k) phi[3 * (size_t)v + k] = B[3 * (size_t)idx[v] + k];
 }
 
+// owned[3 k + c]: the sum over the ranks of component c of the local vector `local` at owned
+// node k (a ghost's value added to its owner's). Collective.
+static PetscErrorCode SumToOwned(FDEMDeformable d, Vec local, std::vector<double> &owned) {
+  const PetscScalar *f;
+  Vec                G = local;
+  PetscFunctionBegin;
+  if (!d->local_is_owned) {
+    PetscCall(VecDuplicate(d->x, &G));
+    PetscCall(VecSet(G, 0));
+    PetscCall(DMLocalToGlobalBegin(d->dm, local, ADD_VALUES, G));
+    PetscCall(DMLocalToGlobalEnd(d->dm, local, ADD_VALUES, G));
+  }
+  owned.resize(3 * (size_t)d->nown);
+  PetscCall(VecGetArrayRead(G, &f));
+  for (PetscInt i = 0; i < 3 * d->nown; ++i) owned[i] = PetscRealPart(f[i]);
+  PetscCall(VecRestoreArrayRead(G, &f));
+  if (G != local) PetscCall(VecDestroy(&G));
+  PetscFunctionReturn(0);
+}
+
 // touched[k]: whether owned node k is a corner of a joint still to balance (d->jequil), on
 // either side of it and on any rank. Collective.
 static PetscErrorCode TouchedByNewJoints(FDEMDeformable d, std::vector<char> &touched) {
-  const std::size_t nj = d->jnode_a.size();
-  std::vector<int>  on(3 * (size_t)d->nlocal, 0), leaf(9 * nj, 0);
+  const std::size_t   nj = d->jnode_a.size();
+  std::vector<int>    on(3 * (size_t)d->nlocal, 0), leaf(9 * nj, 0);
+  std::vector<double> sum;
+  Vec                 L;
+  PetscScalar        *l;
   PetscFunctionBegin;
   for (std::size_t j = 0; j < nj; ++j)
     if (d->jequil[j])
       for (int i = 0; i < 9; ++i) leaf[9 * j + i] = 1, on[3 * (size_t)d->jnode_a[j][i / 3] + i % 3] = 1;
   PetscCall(PetscSFReduceBegin(d->jsf, MPI_INT, leaf.data(), on.data(), MPI_MAX)); // triangle b's corners
   PetscCall(PetscSFReduceEnd(d->jsf, MPI_INT, leaf.data(), on.data(), MPI_MAX));
-  touched.assign(d->nown, 0);
-  if (d->local_is_owned) {
-    for (PetscInt k = 0; k < d->nown; ++k) touched[k] = on[3 * (size_t)d->owned_local[k]] != 0;
-    PetscFunctionReturn(0);
-  }
-  Vec          L, G; // a ghost's mark to its owner
-  PetscScalar *l;
   PetscCall(VecDuplicate(d->floc, &L));
-  PetscCall(VecDuplicate(d->x, &G));
   PetscCall(VecGetArray(L, &l));
   for (std::size_t i = 0; i < on.size(); ++i) l[i] = on[i];
   PetscCall(VecRestoreArray(L, &l));
-  PetscCall(VecSet(G, 0));
-  PetscCall(DMLocalToGlobalBegin(d->dm, L, ADD_VALUES, G));
-  PetscCall(DMLocalToGlobalEnd(d->dm, L, ADD_VALUES, G));
-  const PetscScalar *g;
-  PetscCall(VecGetArrayRead(G, &g));
-  for (PetscInt k = 0; k < d->nown; ++k) touched[k] = PetscRealPart(g[3 * k]) > 0;
-  PetscCall(VecRestoreArrayRead(G, &g));
+  PetscCall(SumToOwned(d, L, sum));
   PetscCall(VecDestroy(&L));
-  PetscCall(VecDestroy(&G));
+  touched.resize(d->nown);
+  for (PetscInt k = 0; k < d->nown; ++k) touched[k] = sum[3 * (size_t)k] > 0;
   PetscFunctionReturn(0);
 }
 
@@ -762,26 +767,9 @@ PetscErrorCode fdem::model::deformable::EquilibrateNewJoints(FDEMDeformable d) {
   // law; or a traction beyond a peak) keeps its forces and leaves the flow to the others: a
   // few rounds, each with the forces the last one left.
   for (int round = 0; round < 3; ++round) {
-    // 1. each owned node's force over all ranks, and its mass
-    std::vector<double> F(3 * (size_t)d->nown);
-    {
-      const PetscScalar *f;
-      if (d->local_is_owned) {
-        PetscCall(VecGetArrayRead(d->floc, &f));
-        for (PetscInt i = 0; i < 3 * d->nown; ++i) F[i] = PetscRealPart(f[i]);
-        PetscCall(VecRestoreArrayRead(d->floc, &f));
-      } else {
-        Vec G;
-        PetscCall(VecDuplicate(d->x, &G));
-        PetscCall(VecSet(G, 0));
-        PetscCall(DMLocalToGlobalBegin(d->dm, d->floc, ADD_VALUES, G));
-        PetscCall(DMLocalToGlobalEnd(d->dm, d->floc, ADD_VALUES, G));
-        PetscCall(VecGetArrayRead(G, &f));
-        for (PetscInt i = 0; i < 3 * d->nown; ++i) F[i] = PetscRealPart(f[i]);
-        PetscCall(VecRestoreArrayRead(G, &f));
-        PetscCall(VecDestroy(&G));
-      }
-    }
+    // 1. each owned node's force over all ranks
+    std::vector<double> F;
+    PetscCall(SumToOwned(d, d->floc, F));
     // 2. to the rank of each input node (its id modulo the ranks): the copies that adjustable
     //    joints join (node, id, F, m, fixed; a copy that no such joint touches is a part of its
     //    own, balanced already) and those joints' edges there (node, a's id, b's id, joint, slot)
