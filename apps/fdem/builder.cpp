@@ -627,6 +627,73 @@ PetscErrorCode RigidFields(Sim &s, Vec r, bool to_vec) {
   PetscCall(VecRestoreArray(r, &a));
   PetscFunctionReturn(0);
 }
+
+// The state in its natural order (by node and body id, the layout of a checkpoint): the
+// deformable nodes' x and v, the rigid bodies' fields, springs, images and work.
+PetscErrorCode ToNatural(Sim &s, Parts &p) {
+  PetscFunctionBeginUser;
+  if (s.dfm) {
+    PetscCall(VecScatterBegin(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterBegin(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+  }
+  if (s.rb) {
+    PetscCall(RigidFields(s, p.r, true));
+    PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
+    if (p.h) {
+      PetscCall(RigidSprings(s, p.h, true));
+      PetscCall(VecScatterBegin(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
+    }
+    if (p.g) {
+      PetscCall(RigidImagesWork(s, p.g, true));
+      PetscCall(VecScatterBegin(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+// The inverse of ToNatural for the parts that were filled: the deformable nodes (after their
+// natural vectors are loaded), the rigid fields, and the springs (has_h) and images (has_g).
+PetscErrorCode FromNatural(Sim &s, Parts &p, bool has_h, bool has_g) {
+  PetscFunctionBeginUser;
+  if (s.dfm) {
+    PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
+  }
+  if (s.rb) {
+    PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(RigidFields(s, p.r, false));
+    if (has_h) {
+      PetscCall(VecScatterBegin(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(VecScatterEnd(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(RigidSprings(s, p.h, false));
+    }
+    if (has_g) {
+      PetscCall(VecScatterBegin(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(VecScatterEnd(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
+      PetscCall(RigidImagesWork(s, p.g, false));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+// The energy reference, the external work so far (on the deformable model when there is one)
+// and, for a rebuild, that the reference is known.
+PetscErrorCode SetClock(Sim &s, PetscReal E0, PetscReal W) {
+  PetscFunctionBeginUser;
+  if (s.rb) PetscCall(FDEMRigidSetExternalWork(s.rb, s.dfm ? 0 : W));
+  if (s.dfm) PetscCall(FDEMDeformableSetExternalWork(s.dfm, W));
+  s.E0      = E0;
+  s.have_E0 = true;
+  PetscFunctionReturn(0);
+}
 } // namespace
 
 PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscInt step, PetscReal dt) {
@@ -637,33 +704,17 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
   PetscCall(MakeParts(s, p));
+  PetscCall(ToNatural(s, p));
   PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_WRITE, &v));
   if (s.dfm) {
-    PetscCall(VecScatterBegin(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterBegin(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecView(p.ndx, v));
     PetscCall(VecView(p.ndv, v));
     PetscCall(FDEMDeformableViewJointState(s.dfm, v));
   }
   if (s.rb) {
-    PetscCall(RigidFields(s, p.r, true));
-    PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecView(p.nr, v));
-    if (p.h) {
-      PetscCall(RigidSprings(s, p.h, true));
-      PetscCall(VecScatterBegin(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecScatterEnd(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecView(p.nh, v));
-    }
-    if (p.g) {
-      PetscCall(RigidImagesWork(s, p.g, true));
-      PetscCall(VecScatterBegin(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecScatterEnd(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecView(p.ng, v));
-    }
+    if (p.h) PetscCall(VecView(p.nh, v));
+    if (p.g) PetscCall(VecView(p.ng, v));
   }
   PetscReal W;
   PetscCall(ExternalWork(s, &W));
@@ -689,40 +740,23 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   Parts       p;
   PetscViewer v;
   Vec         meta;
+  PetscBool   has_h = PETSC_FALSE, has_g = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCall(MakeParts(s, p));
   PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_READ, &v));
   if (s.dfm) {
     PetscCall(FDEMDeformableLoadNodeVector(s.dfm, v, p.ndx)); // (into a larger split after an insertion)
     PetscCall(FDEMDeformableLoadNodeVector(s.dfm, v, p.ndv));
-    PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
     PetscCall(FDEMDeformableLoadJointState(s.dfm, v));
   }
   if (s.rb) {
     PetscCall(VecLoad(p.nr, v));
-    PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(RigidFields(s, p.r, false));
-    PetscBool has = PETSC_FALSE;
-    if (p.h) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_springs", &has));
-    if (has) { // (a checkpoint written before the springs were kept has none: they start from zero)
-      PetscCall(VecLoad(p.nh, v));
-      PetscCall(VecScatterBegin(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(VecScatterEnd(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(RigidSprings(s, p.h, false));
-    }
-    has = PETSC_FALSE;
-    if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image_work", &has));
-    if (has) {
-      PetscCall(VecLoad(p.ng, v));
-      PetscCall(VecScatterBegin(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(VecScatterEnd(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(RigidImagesWork(s, p.g, false));
-    }
+    if (p.h) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_springs", &has_h));
+    if (has_h) PetscCall(VecLoad(p.nh, v)); // (a checkpoint written before the springs were kept has none: they start from zero)
+    if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image_work", &has_g));
+    if (has_g) PetscCall(VecLoad(p.ng, v));
   }
+  PetscCall(FromNatural(s, p, has_h, has_g));
   PetscMPIInt rank0;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
   PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 5 : 0, 5, &meta)); // all on rank 0
@@ -731,9 +765,7 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   {
     const PetscScalar *m;
     PetscReal          buf[5] = {0, 0, 0, 0, 0};
-    PetscMPIInt        rank;
     PetscInt           lo;
-    PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
     PetscCall(VecGetOwnershipRange(meta, &lo, nullptr));
     PetscCall(VecGetArrayRead(meta, &m));
     if (lo == 0) {
@@ -743,18 +775,43 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
     }
     PetscCall(VecRestoreArrayRead(meta, &m));
     PetscCallMPI(MPI_Bcast(buf, 5, MPIU_REAL, 0, s.comm));
-    if (s.rb) PetscCall(FDEMRigidSetExternalWork(s.rb, s.dfm ? 0 : buf[4]));
-    if (s.dfm) PetscCall(FDEMDeformableSetExternalWork(s.dfm, buf[4]));
-    *dt       = buf[3];
-    *t        = buf[0];
-    *step     = (PetscInt)std::llround(buf[1]);
-    s.E0      = buf[2];
-    s.have_E0 = true;
+    PetscCall(SetClock(s, buf[2], buf[4]));
+    *dt   = buf[3];
+    *t    = buf[0];
+    *step = (PetscInt)std::llround(buf[1]);
   }
   PetscCall(VecDestroy(&meta));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(p.Destroy());
   if (s.rb) PetscCall(FDEMRigidMigrate(s.rb));
+  PetscFunctionReturn(0);
+}
+
+// What SimWriteCheckpoint of `from` and SimReadCheckpoint into `to` do, without the file: `to`
+// is `from`'s scene built again with more joints.
+static PetscErrorCode SimContinueState(Sim &to, Sim &from) {
+  Parts     a, b;
+  PetscReal W;
+  PetscFunctionBeginUser;
+  PetscCall(MakeParts(from, a));
+  PetscCall(MakeParts(to, b));
+  PetscCall(ToNatural(from, a));
+  if (to.dfm) {
+    PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndx, b.ndx));
+    PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndv, b.ndv));
+    PetscCall(FDEMDeformableContinueJointState(to.dfm, from.dfm));
+  }
+  if (to.rb) {
+    PetscCall(VecCopy(a.nr, b.nr));
+    if (b.h) PetscCall(VecCopy(a.nh, b.nh));
+    if (b.g) PetscCall(VecCopy(a.ng, b.ng));
+  }
+  PetscCall(FromNatural(to, b, b.h, b.g));
+  PetscCall(ExternalWork(from, &W));
+  PetscCall(SetClock(to, from.E0, W));
+  PetscCall(a.Destroy());
+  PetscCall(b.Destroy());
+  if (to.rb) PetscCall(FDEMRigidMigrate(to.rb));
   PetscFunctionReturn(0);
 }
 
@@ -781,16 +838,11 @@ PetscErrorCode SimFindCellsToSplit(Sim &s, std::vector<PetscInt> &cells) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells, const std::string &file, PetscReal t, PetscInt step, PetscReal dt) {
+PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells) {
   Sim             n;
   PetscInt        nc;
   const PetscInt *have;
-  PetscReal       t1, dt1;
-  PetscInt        step1;
-  PetscMPIInt     rank;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
-  PetscCall(SimWriteCheckpoint(s, file.c_str(), t, step, dt));
   PetscCall(FDEMDeformableGetFractureCells(s.dfm, &nc, &have));
   std::vector<PetscInt> all(have, have + nc);
   all.insert(all.end(), cells.begin(), cells.end());
@@ -800,11 +852,9 @@ PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells, const
   PetscCall(SimBuild(s.comm, *s.scene, s.meshes, n, all, s.dfm));
   if (n.dfm) PetscCall(FDEMDeformableContinueOutput(n.dfm, s.dfm));
   if (n.rb) PetscCall(FDEMRigidContinueOutput(n.rb, s.rb));
-  PetscCall(SimReadCheckpoint(n, file.c_str(), &t1, &step1, &dt1));
+  PetscCall(SimContinueState(n, s));
   PetscCall(SimDestroy(s));
   s = std::move(n);
-  PetscCallMPI(MPI_Barrier(s.comm));
-  if (rank == 0) std::remove(file.c_str());
   PetscFunctionReturn(0);
 }
 

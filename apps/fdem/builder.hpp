@@ -80,10 +80,10 @@ PetscErrorCode SimReadFractureCells(MPI_Comm comm, const char *file, std::vector
 // Joints inserted during the run (doc/fracture.md): the whole tetrahedra whose stress nears
 // the strength, with their neighbours (the same list on every rank; after SimRestore).
 PetscErrorCode SimFindCellsToSplit(Sim &sim, std::vector<PetscInt> &cells);
-// Builds the scene again with `cells` split too and carries the state over through a
-// checkpoint written to `file` (removed after); sim is then the new one, with its output
+// Builds the scene again with `cells` split too and carries the state over from the old
+// model, as a checkpoint it wrote would (no file); sim is then the new one, with its output
 // continuing the old one's files. Call after SimEndTS; then SimSetUpTS. Collective.
-PetscErrorCode SimInsertJoints(Sim &sim, const std::vector<PetscInt> &cells, const std::string &file, PetscReal t, PetscInt step, PetscReal dt);
+PetscErrorCode SimInsertJoints(Sim &sim, const std::vector<PetscInt> &cells);
 PetscErrorCode SimDestroy(Sim &sim);
 // Names of rigid body `id` (the library's numbering) in the scene.
 std::string RigidBodyName(const Sim &sim, PetscInt id);

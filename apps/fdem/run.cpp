@@ -544,22 +544,6 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscInt ncheckpoints = 0;
   // with joints inserted during the run, segments also end every o.insert_every steps
   const PetscInt ins = s.inserting ? o.insert_every : 0;
-  // (the state crosses to the rebuilt scene through a file that every rank reads: in the output
-  // folder, or without output in PETSc's temporary folder, which must then be shared)
-  std::string insert_file;
-  if (ins) {
-    long long pid = (long long)getpid();
-    PetscCallMPI(MPI_Bcast(&pid, 1, MPI_LONG_LONG, 0, comm));
-    if (write) insert_file = fdir + "/.insert-" + std::to_string(pid) + ".h5";
-    else {
-      char      tmpdir[PETSC_MAX_PATH_LEN];
-      PetscBool shared;
-      PetscCall(PetscGetTmp(comm, tmpdir, sizeof(tmpdir)));
-      PetscCall(PetscSharedTmp(comm, &shared));
-      PetscCheck(shared, comm, PETSC_ERR_SUP, "%s: joints inserted during the run (fracture.insert_at) carry the state through a file, and with -fdem_output none it goes to %s, which the ranks do not share: give an output folder, or set PETSC_TMP to a shared one", sc.file.c_str(), tmpdir);
-      insert_file = std::string(tmpdir) + "/fdem-insert-" + std::to_string(pid) + ".h5";
-    }
-  }
   PetscInt       ninserted = 0, ninsertions = 0;
   PetscLogDouble insert_time = 0; // wall time of the searches and rebuilds
   while (step < nsteps && t < end * (1 - 1e-12)) {
@@ -582,7 +566,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       if (!cells.empty()) {
         if (write) PetscCall(WriteJointBreaks(s, breaks, dt)); // (this model's; the next numbers its joints anew)
         PetscCall(SimEndTS(s));
-        PetscCall(SimInsertJoints(s, cells, insert_file, t, step, dt));
+        PetscCall(SimInsertJoints(s, cells));
         if (SimNeedsMigration(s)) PetscCall(SimMigrate(s));
         PetscCall(SimSetUpTS(s, scheme, t, step));
         PetscCall(ConfigureTS(s, dt, end));

@@ -117,7 +117,13 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable dfm, co
    set-up derives from the input mesh alone: its faces sorted for splitting, and the joints'
    frequency and the check of every joint that insertion may make; where the mesh, the
    bodies' materials, their fracture properties, insertion or zones differ, SetUp makes them
-   anew (the same answers either way). */
+   anew (the same answers either way). ContinueNodeVector and ContinueJointState do for the
+   successor what LoadNodeVector and LoadJointState do with a checkpoint its predecessor
+   wrote, straight from the predecessor (set up, of the same input mesh, insertion and
+   fracture properties, with no tetrahedron split that `to` keeps whole): a node vector in
+   the predecessor's natural order (its split's node numbering, as a checkpoint saves it) is
+   mapped into the successor's, and the joints' state taken over, with the same values as
+   through a file. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableSetFractureInsertion(FDEMDeformable dfm, const char *body, PetscReal ratio);
 PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureCells(FDEMDeformable dfm, PetscInt n, const PetscInt cells[]);
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetFractureCells(FDEMDeformable dfm, PetscInt *n, const PetscInt *cells[]);
@@ -126,6 +132,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableReadFractureCells(MPI_Comm comm, Petsc
 PETSC_EXTERN PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable dfm, PetscViewer viewer, Vec natural);
 PETSC_EXTERN PetscErrorCode FDEMDeformableContinueOutput(FDEMDeformable to, FDEMDeformable from);
 PETSC_EXTERN PetscErrorCode FDEMDeformableReuseSetUp(FDEMDeformable to, FDEMDeformable from);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContinueNodeVector(FDEMDeformable to, FDEMDeformable from, Vec from_natural, Vec to_natural);
+PETSC_EXTERN PetscErrorCode FDEMDeformableContinueJointState(FDEMDeformable to, FDEMDeformable from);
 /* After set-up: an estimate of the joints' largest frequency omega_j (1/s; 0 without joints):
    max over nodes of sqrt(2 K / m), K the joint stiffness p A / (3 h) per point summed at the
    node, m its mass. A time step with omega_j dt above half the scheme's K_crit is warned at

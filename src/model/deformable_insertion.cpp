@@ -125,17 +125,30 @@ PetscErrorCode fdem::model::deformable::ViewInsertedCells(FDEMDeformable d, Pets
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode fdem::model::deformable::SavedState::Has(const char *name, bool *has) const {
+  PetscBool hdf5, h = PETSC_TRUE;
+  PetscFunctionBegin;
+  *has = true;
+  if (!viewer) PetscFunctionReturn(0);
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
+  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, (std::string("/") + name).c_str(), &h));
+  *has = h;
+  PetscFunctionReturn(0);
+}
+
 // Whether the saved state was written with another split than this model's (the checkpoint's
 // inserted tetrahedra in `old`); an error when it split a tetrahedron this model keeps whole.
-PetscErrorCode fdem::model::deformable::SavedSplitDiffers(FDEMDeformable d, PetscViewer viewer, std::vector<PetscInt> &old, bool *differs) {
+PetscErrorCode fdem::model::deformable::SavedSplitDiffers(FDEMDeformable d, const SavedState &saved, std::vector<PetscInt> &old, bool *differs) {
   bool has;
   PetscFunctionBegin;
-  PetscCall(ReadInsertedCells(d->comm, viewer, old, &has));
+  if (saved.viewer) PetscCall(ReadInsertedCells(d->comm, saved.viewer, old, &has));
+  else old = saved.from->inserted, has = !saved.from->insertion.empty(); // (what ViewInsertedCells would save)
   *differs = has && old != d->inserted;
   if (!has && !d->inserted.empty()) *differs = true; // saved before any insertion, or by an earlier fdem
   if (*differs) {
-    PetscCheck(!d->insertion.empty(), d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint has joints inserted during its run (fracture_cells), but this model inserts none: load it into a model with the same insertion bodies");
-    PetscCheck(std::includes(d->inserted.begin(), d->inserted.end(), old.begin(), old.end()), d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint split tetrahedra that this model keeps whole (fracture_cells): give them to FDEMDeformableAddFractureCells");
+    const char *what = saved.viewer ? "the checkpoint" : "the model continued from";
+    PetscCheck(!d->insertion.empty(), d->comm, PETSC_ERR_FILE_UNEXPECTED, "%s has joints inserted during its run (fracture_cells), but this model inserts none: load it into a model with the same insertion bodies", what);
+    PetscCheck(std::includes(d->inserted.begin(), d->inserted.end(), old.begin(), old.end()), d->comm, PETSC_ERR_FILE_UNEXPECTED, "%s split tetrahedra that this model keeps whole (fracture_cells): give them to FDEMDeformableAddFractureCells", what);
   }
   PetscFunctionReturn(0);
 }
@@ -189,22 +202,18 @@ void fdem::model::deformable::JointOrigins(FDEMDeformable d, const std::vector<P
   *nold = d->origin_joints;
 }
 
-// Loads the saved vector named as `nat` (this model's natural layout) written with a split of
-// nold units of `per` entries: rank 0 gets the saved vector and fills each unit of the new one
-// (fill(saved, new)), which is then spread over nat's layout. Collective.
-PetscErrorCode fdem::model::deformable::LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill) {
-  Vec         old, old0, new0;
+// Maps `old`, a vector in the natural order of a split with fewer tetrahedra split (nold units
+// of `per` entries), into nat, this model's natural layout: rank 0 gets old and fills each unit
+// of the new one (fill(old, new)), which is then spread over nat's layout. Collective.
+PetscErrorCode fdem::model::deformable::MapFromSplit(FDEMDeformable d, Vec old, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill) {
+  Vec         old0, new0;
   VecScatter  so, sn;
   const char *name;
   PetscInt    N;
   PetscFunctionBegin;
   PetscCall(PetscObjectGetName((PetscObject)nat, &name));
-  PetscCall(VecCreate(d->comm, &old));
-  PetscCall(PetscObjectSetName((PetscObject)old, name));
-  PetscCall(VecLoad(old, viewer));
   PetscCall(VecGetSize(old, &N));
-  if (N != per * nold) PetscCall(VecDestroy(&old));
-  PetscCheck(N == per * nold, d->comm, PETSC_ERR_FILE_UNEXPECTED, "the checkpoint's %s has %" PetscInt_FMT " entries; the split it was written with has %" PetscInt_FMT " x %" PetscInt_FMT " (another scene?)", name, N, nold, per);
+  PetscCheck(N == per * nold, d->comm, PETSC_ERR_FILE_UNEXPECTED, "the saved %s has %" PetscInt_FMT " entries; the split it was written with has %" PetscInt_FMT " x %" PetscInt_FMT " (another scene?)", name, N, nold, per);
   PetscCall(VecScatterCreateToZero(old, &so, &old0));
   PetscCall(VecScatterBegin(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
@@ -224,7 +233,6 @@ PetscErrorCode fdem::model::deformable::LoadMapped(FDEMDeformable d, PetscViewer
   PetscCall(VecScatterDestroy(&sn));
   PetscCall(VecDestroy(&old0));
   PetscCall(VecDestroy(&new0));
-  PetscCall(VecDestroy(&old));
   PetscFunctionReturn(0);
 }
 
@@ -265,27 +273,77 @@ PetscErrorCode FDEMDeformableReadFractureCells(MPI_Comm comm, PetscViewer viewer
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable d, PetscViewer viewer, Vec nat) {
-  std::vector<PetscInt> old;
+// A node vector of the saved state into nat (this model's natural layout): `old`, or without it
+// the viewer's vector of nat's name.
+static PetscErrorCode NodeVectorFrom(FDEMDeformable d, const SavedState &saved, Vec old, Vec nat) {
+  std::vector<PetscInt> cells;
   bool                  differs;
   PetscFunctionBegin;
-  PetscCall(CheckSetUp(d, "FDEMDeformableLoadNodeVector"));
-  PetscCall(SavedSplitDiffers(d, viewer, old, &differs));
+  PetscCall(SavedSplitDiffers(d, saved, cells, &differs));
   if (!differs) {
-    PetscCall(VecLoad(nat, viewer));
+    if (old) PetscCall(VecCopy(old, nat));
+    else PetscCall(VecLoad(nat, saved.viewer));
     PetscFunctionReturn(0);
   }
   std::vector<PetscInt> from;
   PetscInt              nold = 0;
   PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
-    if (d->rank == 0) NodeOrigins(d, old, from, &nold);
+    if (d->rank == 0) NodeOrigins(d, cells, from, &nold);
     return 0;
   }));
   PetscCallMPI(MPI_Bcast(&nold, 1, MPIU_INT, 0, d->comm));
-  PetscCall(LoadMapped(d, viewer, nat, nold, 3, [&](const PetscScalar *o, PetscScalar *n) {
+  Vec loaded = nullptr;
+  if (!old) {
+    const char *name;
+    PetscCall(PetscObjectGetName((PetscObject)nat, &name));
+    PetscCall(VecCreate(d->comm, &loaded));
+    PetscCall(PetscObjectSetName((PetscObject)loaded, name));
+    PetscCall(VecLoad(loaded, saved.viewer));
+  }
+  PetscCall(MapFromSplit(d, old ? old : loaded, nat, nold, 3, [&](const PetscScalar *o, PetscScalar *n) {
     for (std::size_t i = 0; i < from.size(); ++i)
       for (int c = 0; c < 3; ++c) n[3 * i + c] = o[3 * from[i] + c];
   }));
+  PetscCall(VecDestroy(&loaded));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableLoadNodeVector(FDEMDeformable d, PetscViewer viewer, Vec nat) {
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "FDEMDeformableLoadNodeVector"));
+  PetscCall(NodeVectorFrom(d, SavedState{viewer, nullptr}, nullptr, nat));
+  PetscFunctionReturn(0);
+}
+
+// Both set up, on the same communicator, of the same input mesh.
+static PetscErrorCode CheckContinues(FDEMDeformable to, FDEMDeformable from, const char *fn) {
+  PetscMPIInt cmp;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(to, fn));
+  PetscCall(CheckSetUp(from, fn));
+  PetscCallMPI(MPI_Comm_compare(to->comm, from->comm, &cmp));
+  PetscCheck(cmp == MPI_IDENT || cmp == MPI_CONGRUENT, to->comm, PETSC_ERR_ARG_INCOMP, "%s: the two models are on different communicators", fn);
+  PetscInt same = 1; // (rank 0 holds the input meshes)
+  if (to->rank == 0) {
+    const auto &a = to->insertion_input, &b = from->insertion_input;
+    same = a == b || (a && b && SameInput(*a, b->key, b->mesh));
+  }
+  PetscCallMPI(MPI_Bcast(&same, 1, MPIU_INT, 0, to->comm));
+  PetscCheck(same, to->comm, PETSC_ERR_ARG_INCOMP, "%s: the two models differ in their input mesh, insertion or fracture properties", fn);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableContinueNodeVector(FDEMDeformable to, FDEMDeformable from, Vec from_natural, Vec to_natural) {
+  PetscFunctionBegin;
+  PetscCall(CheckContinues(to, from, "FDEMDeformableContinueNodeVector"));
+  PetscCall(NodeVectorFrom(to, SavedState{nullptr, from}, from_natural, to_natural));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FDEMDeformableContinueJointState(FDEMDeformable to, FDEMDeformable from) {
+  PetscFunctionBegin;
+  PetscCall(CheckContinues(to, from, "FDEMDeformableContinueJointState"));
+  PetscCall(LoadJointState(to, SavedState{nullptr, from}));
   PetscFunctionReturn(0);
 }
 

@@ -142,12 +142,7 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
       key.insert(key.end(), {(double)split[b], (double)inserting[b], d->materials[mob[b]].rho, J.tensile_strength, J.cohesion, J.friction_angle, J.GI, J.GII, J.penalty});
     }
     for (char z : d->box_split) key.push_back(z);
-    const auto same = [&](const fdem::model::deformable::InsertionInput &r) {
-      const auto &M = r.mesh;
-      return r.key == key && M.tets == d->mesh.tets && M.body == d->mesh.body && M.nodes.size() == d->mesh.nodes.size() &&
-             std::equal(M.nodes.begin(), M.nodes.end(), d->mesh.nodes.begin(), [](const fdem::kernels::Vec3 &a, const fdem::kernels::Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; });
-    };
-    if (d->reuse && same(*d->reuse)) d->insertion_input = d->reuse; // a model of this mesh and scene made it
+    if (d->reuse && SameInput(*d->reuse, key, d->mesh)) d->insertion_input = d->reuse; // a model of this mesh and scene made it
     else {
       made           = std::make_shared<fdem::model::deformable::InsertionInput>();
       made->mesh     = d->mesh;
@@ -1131,60 +1126,113 @@ static PetscErrorCode JointFieldLayout(FDEMDeformable d, const char *name, Petsc
   PetscFunctionReturn(0);
 }
 
-// Writes (load = false) or reads the field `name`: this rank's values `mine_values` (per
-// per joint) to or from the viewer; on reading, checks the saved size.
-// With `origin` (loading a state saved with fewer joints, rank 0: nold of them), each joint
-// takes its origin's values, its points those of the origin's points on the same edges (per is
-// 1 for a value per joint, else a multiple of 3 for per / 3 values per point), and a new joint
-// `fresh`.
+// A joint field of this model's state (per values per joint, in its joints' order): the
+// damages, shear damages, last energies (tension, shear) of the three points, the energy
+// dissipated, and the offsets of joints inserted under load: c[3][3] and the energy counted
+// from, NaN for a joint inserted by the last load whose offset is not made yet (it is made
+// when loaded).
+constexpr int kOffsetValues = 10; // a joint's offset: JointOffset::c, then its energy
+static const struct {
+  const char *name;
+  PetscInt    per;
+} kJointFields[] = {{"joint_damage", 3}, {"joint_shear_damage", 3}, {"joint_last_energy", 6}, {"joint_dissipated", 1}, {"joint_offset", kOffsetValues}};
+static std::vector<PetscReal> JointFieldValues(FDEMDeformable d, const std::string &name) {
+  const std::size_t      n = d->jstate.size();
+  std::vector<PetscReal> v;
+  if (name == "joint_damage" || name == "joint_shear_damage") {
+    v.resize(3 * n);
+    for (std::size_t j = 0; j < n; ++j)
+      for (int q = 0; q < 3; ++q) v[3 * j + q] = name == "joint_damage" ? d->jstate[j][q].D : d->jstate[j][q].shear_damage; // (D: 1 once broken)
+  } else if (name == "joint_last_energy") { // the points' energies at their last evaluation (JointState)
+    v.resize(6 * n);
+    for (std::size_t j = 0; j < n; ++j)
+      for (int q = 0; q < 3; ++q) v[6 * j + 2 * q] = d->jstate[j][q].last_tension, v[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
+  } else if (name == "joint_dissipated") v = d->jdiss;
+  else if (name == "joint_offset") {
+    v.assign(kOffsetValues * n, 0.0);
+    for (std::size_t j = 0; j < n; ++j) {
+      PetscReal *o = &v[kOffsetValues * j];
+      if ((d->prestress_pending && d->jfresh[j]) || (d->equilibrate_pending && d->jequil[j])) std::fill(o, o + kOffsetValues, NAN);
+      else if (!d->jofs.empty()) std::copy(&d->jofs[j].c[0][0], &d->jofs[j].c[0][0] + 9, o), o[9] = d->jofs[j].energy;
+    }
+  }
+  return v;
+}
+
+// The field `name` of this model's joints (values: per per joint, in their order) in the
+// natural layout (*nat, named `name`). Collective.
+static PetscErrorCode JointFieldNatural(FDEMDeformable d, const char *name, PetscInt per, const PetscReal *values, Vec *nat) {
+  Vec          mine;
+  VecScatter   sc;
+  PetscScalar *a;
+  PetscFunctionBegin;
+  PetscCall(JointFieldLayout(d, name, per, nat, &mine, &sc));
+  const PetscInt n = per * (PetscInt)d->jgid.size();
+  PetscCall(VecGetArray(mine, &a));
+  for (PetscInt i = 0; i < n; ++i) a[i] = values[i];
+  PetscCall(VecRestoreArray(mine, &a));
+  PetscCall(VecScatterBegin(sc, mine, *nat, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, mine, *nat, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(VecDestroy(&mine));
+  PetscFunctionReturn(0);
+}
+
+// Reads the saved field `name` into this rank's values (per per joint); checks the saved size.
+// With `origin` (a state saved with fewer joints, rank 0: nold of them), each joint takes its
+// origin's values, its points those of the origin's points on the same edges (per is 1 for a
+// value per joint, else a multiple of 3 for per / 3 values per point), and a new joint `fresh`.
 struct JointRemap {
   const std::vector<JointOrigin> *origin = nullptr;
   PetscInt                        nold   = 0;
   PetscReal                       fresh  = 0;
   bool                            whole  = false; // per values of the joint, not per / 3 of each point
 };
-constexpr int kOffsetValues = 10; // a joint's offset in checkpoints: JointOffset::c, then its energy
-static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const char *name, PetscInt per, PetscReal *values, bool load, const JointRemap &remap = {}) {
-  Vec          nat, mine;
+static PetscErrorCode LoadJointField(FDEMDeformable d, const SavedState &saved, const char *name, PetscInt per, PetscReal *values, const JointRemap &remap = {}) {
+  Vec          nat, mine, old = nullptr;
   VecScatter   sc;
   PetscScalar *a;
+  PetscInt     N;
   PetscFunctionBegin;
   PetscCall(JointFieldLayout(d, name, per, &nat, &mine, &sc));
-  const PetscInt n = per * (PetscInt)d->jgid.size();
-  if (!load) {
-    PetscCall(VecGetArray(mine, &a));
-    for (PetscInt i = 0; i < n; ++i) a[i] = values[i];
-    PetscCall(VecRestoreArray(mine, &a));
-    PetscCall(VecScatterBegin(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(sc, mine, nat, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecView(nat, viewer));
-  } else {
-    PetscInt N;
-    if (remap.origin) {
-      const auto &from = *remap.origin;
-      PetscCall(LoadMapped(d, viewer, nat, remap.nold, per, [&](const PetscScalar *o, PetscScalar *n) {
-        const PetscInt w = per == 1 ? 1 : per / 3; // values per point
-        for (std::size_t j = 0; j < from.size(); ++j) {
-          const JointOrigin &f = from[j];
-          if (f.joint < 0) {
-            for (PetscInt i = 0; i < per; ++i) n[per * j + i] = remap.fresh;
-          } else if (per == 1 || remap.whole) {
-            for (PetscInt i = 0; i < per; ++i) n[per * j + i] = o[per * f.joint + i];
-          } else {
-            for (int q = 0; q < 3; ++q)
-              for (PetscInt i = 0; i < w; ++i) n[per * j + w * q + i] = o[per * f.joint + w * f.point[q] + i];
-          }
-        }
-      }));
-    } else PetscCall(VecLoad(nat, viewer));
-    PetscCall(VecGetSize(nat, &N));
-    PetscCheck(N == per * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved %s has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x %" PetscInt_FMT " (another scene?)", name, N, d->njoints_global, per);
-    PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecGetArray(mine, &a));
-    for (PetscInt i = 0; i < n; ++i) values[i] = PetscRealPart(a[i]);
-    PetscCall(VecRestoreArray(mine, &a));
+  if (saved.from) PetscCall(JointFieldNatural(saved.from, name, per, JointFieldValues(saved.from, name).data(), &old));
+  else if (remap.origin) {
+    PetscCall(VecCreate(d->comm, &old));
+    PetscCall(PetscObjectSetName((PetscObject)old, name));
+    PetscCall(VecLoad(old, saved.viewer));
   }
+  if (remap.origin) {
+    const auto &from = *remap.origin;
+    PetscCall(MapFromSplit(d, old, nat, remap.nold, per, [&](const PetscScalar *o, PetscScalar *n) {
+      const PetscInt w = per == 1 ? 1 : per / 3; // values per point
+      for (std::size_t j = 0; j < from.size(); ++j) {
+        const JointOrigin &f = from[j];
+        if (f.joint < 0) {
+          for (PetscInt i = 0; i < per; ++i) n[per * j + i] = remap.fresh;
+        } else if (per == 1 || remap.whole) {
+          for (PetscInt i = 0; i < per; ++i) n[per * j + i] = o[per * f.joint + i];
+        } else {
+          for (int q = 0; q < 3; ++q)
+            for (PetscInt i = 0; i < w; ++i) n[per * j + w * q + i] = o[per * f.joint + w * f.point[q] + i];
+        }
+      }
+    }));
+  } else if (old) {
+    PetscCall(VecGetSize(old, &N));
+    if (N == per * d->njoints_global) PetscCall(VecCopy(old, nat)); // (else the check below)
+  } else {
+    PetscCall(VecLoad(nat, saved.viewer));
+    PetscCall(VecGetSize(nat, &N));
+  }
+  if (remap.origin) PetscCall(VecGetSize(nat, &N));
+  PetscCall(VecDestroy(&old));
+  PetscCheck(N == per * d->njoints_global, d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved %s has %" PetscInt_FMT " entries, this mesh has %" PetscInt_FMT " joints x %" PetscInt_FMT " (another scene?)", name, N, d->njoints_global, per);
+  PetscCall(VecScatterBegin(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(sc, nat, mine, INSERT_VALUES, SCATTER_REVERSE));
+  const PetscInt n = per * (PetscInt)d->jgid.size();
+  PetscCall(VecGetArray(mine, &a));
+  for (PetscInt i = 0; i < n; ++i) values[i] = PetscRealPart(a[i]);
+  PetscCall(VecRestoreArray(mine, &a));
   PetscCall(VecScatterDestroy(&sc));
   PetscCall(VecDestroy(&mine));
   PetscCall(VecDestroy(&nat));
@@ -1193,37 +1241,42 @@ static PetscErrorCode JointField(FDEMDeformable d, PetscViewer viewer, const cha
 
 // The contact energy taken over from removed joints (DeformableAddOnset): one number, saved by
 // rank 0 and read on every rank. A checkpoint written before it was kept has none: 0.
-static PetscErrorCode OnsetField(FDEMDeformable d, PetscViewer viewer, bool load) {
-  Vec         v;
-  PetscMPIInt rank;
+static PetscErrorCode ViewOnset(FDEMDeformable d, PetscViewer viewer) {
+  Vec v;
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(d->comm, &rank));
-  if (load) {
-    PetscBool hdf5, has = PETSC_TRUE;
-    PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
-    if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_contact_onset", &has));
-    d->onset = 0;
-    if (!has) PetscFunctionReturn(0);
-  }
-  PetscCall(VecCreateMPI(d->comm, rank == 0 ? 1 : 0, 1, &v));
+  PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &v));
   PetscCall(PetscObjectSetName((PetscObject)v, "joint_contact_onset"));
-  if (!load) {
-    if (rank == 0) PetscCall(VecSetValue(v, 0, d->onset, INSERT_VALUES));
-    PetscCall(VecAssemblyBegin(v));
-    PetscCall(VecAssemblyEnd(v));
-    PetscCall(VecView(v, viewer));
-  } else {
-    const PetscScalar *a;
-    PetscReal          e = 0;
-    PetscCall(VecLoad(v, viewer));
-    PetscCall(VecGetArrayRead(v, &a));
-    if (rank == 0) e = PetscRealPart(a[0]);
-    PetscCall(VecRestoreArrayRead(v, &a));
-    PetscCallMPI(MPI_Bcast(&e, 1, MPIU_REAL, 0, d->comm));
-    PetscCheck(std::isfinite(e), d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved joint_contact_onset is not a finite number");
-    d->onset = e;
-  }
+  if (d->rank == 0) PetscCall(VecSetValue(v, 0, d->onset, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(v));
+  PetscCall(VecAssemblyEnd(v));
+  PetscCall(VecView(v, viewer));
   PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode LoadOnset(FDEMDeformable d, const SavedState &saved) {
+  Vec                v;
+  bool               has;
+  const PetscScalar *a;
+  PetscReal          e = 0;
+  PetscFunctionBegin;
+  d->onset = 0;
+  if (saved.from) {
+    d->onset = saved.from->onset;
+    PetscFunctionReturn(0);
+  }
+  PetscCall(saved.Has("joint_contact_onset", &has));
+  if (!has) PetscFunctionReturn(0);
+  PetscCall(VecCreateMPI(d->comm, d->rank == 0 ? 1 : 0, 1, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "joint_contact_onset"));
+  PetscCall(VecLoad(v, saved.viewer));
+  PetscCall(VecGetArrayRead(v, &a));
+  if (d->rank == 0) e = PetscRealPart(a[0]);
+  PetscCall(VecRestoreArrayRead(v, &a));
+  PetscCallMPI(MPI_Bcast(&e, 1, MPIU_REAL, 0, d->comm));
+  PetscCall(VecDestroy(&v));
+  PetscCheck(std::isfinite(e), d->comm, PETSC_ERR_FILE_UNEXPECTED, "FDEMDeformableLoadJointState: the saved joint_contact_onset is not a finite number");
+  d->onset = e;
   PetscFunctionReturn(0);
 }
 
@@ -1232,35 +1285,26 @@ PetscErrorCode FDEMDeformableViewJointState(FDEMDeformable d, PetscViewer viewer
   PetscCall(CheckSetUp(d, "FDEMDeformableViewJointState"));
   PetscCall(ViewInsertedCells(d, viewer));
   if (d->njoints_global == 0) PetscFunctionReturn(0);
-  std::vector<PetscReal> D(3 * d->jstate.size());
-  for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].D; // 1 once broken
-  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), false));
-  for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) D[3 * j + q] = d->jstate[j][q].shear_damage;
-  PetscCall(JointField(d, viewer, "joint_shear_damage", 3, D.data(), false));
-  std::vector<PetscReal> E(6 * d->jstate.size()); // the points' energies at their last evaluation (JointState)
-  for (std::size_t j = 0; j < d->jstate.size(); ++j)
-    for (int q = 0; q < 3; ++q) E[6 * j + 2 * q] = d->jstate[j][q].last_tension, E[6 * j + 2 * q + 1] = d->jstate[j][q].last_shear;
-  PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), false));
-  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), false));
-  // the offsets of joints inserted under load: c[3][3] and the energy counted from; NaN for a
-  // joint inserted by the last load whose offset is not made yet (it is made when loaded)
-  std::vector<PetscReal> O(kOffsetValues * d->jstate.size(), 0.0);
-  for (std::size_t j = 0; j < d->jstate.size(); ++j) {
-    PetscReal *o = &O[kOffsetValues * j];
-    if ((d->prestress_pending && d->jfresh[j]) || (d->equilibrate_pending && d->jequil[j])) std::fill(o, o + kOffsetValues, NAN);
-    else if (!d->jofs.empty()) std::copy(&d->jofs[j].c[0][0], &d->jofs[j].c[0][0] + 9, o), o[9] = d->jofs[j].energy;
+  for (const auto &f : kJointFields) {
+    Vec nat;
+    PetscCall(JointFieldNatural(d, f.name, f.per, JointFieldValues(d, f.name).data(), &nat));
+    PetscCall(VecView(nat, viewer));
+    PetscCall(VecDestroy(&nat));
   }
-  PetscCall(JointField(d, viewer, "joint_offset", kOffsetValues, O.data(), false));
-  PetscCall(OnsetField(d, viewer, false));
+  PetscCall(ViewOnset(d, viewer));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer) {
   PetscFunctionBegin;
-  d->topology_made = false; // (the joints' damage may go down)
   PetscCall(CheckSetUp(d, "FDEMDeformableLoadJointState"));
+  PetscCall(LoadJointState(d, SavedState{viewer, nullptr}));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::deformable::LoadJointState(FDEMDeformable d, const SavedState &saved) {
+  PetscFunctionBegin;
+  d->topology_made = false; // (the joints' damage may go down)
   if (d->njoints_global == 0) PetscFunctionReturn(0);
   // a state saved with fewer tetrahedra split (joints inserted since): the joints it had keep
   // their state, the others start intact
@@ -1268,7 +1312,7 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
   std::vector<JointOrigin> origin;
   bool                     differs;
   PetscInt                 nold = 0;
-  PetscCall(SavedSplitDiffers(d, viewer, old, &differs));
+  PetscCall(SavedSplitDiffers(d, saved, old, &differs));
   if (differs) {
     PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
       if (d->rank == 0) JointOrigins(d, old, origin, &nold);
@@ -1287,35 +1331,31 @@ PetscErrorCode FDEMDeformableLoadJointState(FDEMDeformable d, PetscViewer viewer
       d->jfresh[j] = d->prestress;
     }
     d->prestress_pending = d->prestress;
-    PetscCall(OnsetField(d, viewer, true));
+    PetscCall(LoadOnset(d, saved));
     PetscFunctionReturn(0);
   }
   const JointRemap       rm0{differs ? &origin : nullptr, nold, 0.0}, rm1{differs ? &origin : nullptr, nold, -1.0};
   const JointRemap       rmw{differs ? &origin : nullptr, nold, 0.0, true};
   std::vector<PetscReal> D(3 * d->jstate.size()), W(3 * d->jstate.size(), 0.0), O(kOffsetValues * d->jstate.size(), 0.0);
-  PetscCall(JointField(d, viewer, "joint_damage", 3, D.data(), true, rm1)); // -1: a joint the saved split did not have
-  PetscBool hasoff = PETSC_TRUE, hdf5v;
-  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5v));
-  if (hdf5v) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_offset", &hasoff));
-  if (hasoff) PetscCall(JointField(d, viewer, "joint_offset", kOffsetValues, O.data(), true, rmw)); // (an earlier fdem's checkpoint has none: no offsets)
+  PetscCall(LoadJointField(d, saved, "joint_damage", 3, D.data(), rm1)); // -1: a joint the saved split did not have
+  bool has;
+  PetscCall(saved.Has("joint_offset", &has));
+  if (has) PetscCall(LoadJointField(d, saved, "joint_offset", kOffsetValues, O.data(), rmw)); // (an earlier fdem's checkpoint has none: no offsets)
   // A checkpoint written before the shear damage was kept has none: the joints' shear then
   // restarts from zero, and their first evaluation raises it to the law's secant, the same
   // tractions as the law without the secant at the positions saved.
-  PetscBool hdf5, has = PETSC_TRUE;
-  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERHDF5, &hdf5));
-  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_shear_damage", &has));
-  if (has) PetscCall(JointField(d, viewer, "joint_shear_damage", 3, W.data(), true, rm0));
+  PetscCall(saved.Has("joint_shear_damage", &has));
+  if (has) PetscCall(LoadJointField(d, saved, "joint_shear_damage", 3, W.data(), rm0));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_shear_damage (written by an earlier fdem); the joints' shear damage restarts from their law\n"));
   // The points' energies at their last evaluation, for the release of damage at the step's
   // middle. Without them (an earlier fdem's checkpoint) each point takes its first step's
   // release at that step's end.
   std::vector<PetscReal> E(6 * d->jstate.size(), -1.0);
-  has = PETSC_TRUE;
-  if (hdf5) PetscCall(PetscViewerHDF5HasDataset(viewer, "/joint_last_energy", &has));
-  if (has) PetscCall(JointField(d, viewer, "joint_last_energy", 6, E.data(), true, rm1));
+  PetscCall(saved.Has("joint_last_energy", &has));
+  if (has) PetscCall(LoadJointField(d, saved, "joint_last_energy", 6, E.data(), rm1));
   else PetscCall(PetscPrintf(d->comm, "Note: the checkpoint has no joint_last_energy (written by an earlier fdem); each joint point takes its first step's release of energy at the step's end\n"));
-  PetscCall(JointField(d, viewer, "joint_dissipated", 1, d->jdiss.data(), true, rm0));
-  PetscCall(OnsetField(d, viewer, true));
+  PetscCall(LoadJointField(d, saved, "joint_dissipated", 1, d->jdiss.data(), rm0));
+  PetscCall(LoadOnset(d, saved));
   PetscInt bad = -1;
   bool     any = false;
   for (std::size_t j = 0; j < d->jstate.size(); ++j) {

@@ -28,6 +28,7 @@
 #include <fdem/kernels/joint_mesh.hpp>
 #include <fdem/kernels/tetmesh.hpp>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <memory>
@@ -75,6 +76,12 @@ struct InsertionInput {
   std::unique_ptr<fdem::kernels::JointSplitter> splitter;    // its splits (the faces sorted once), of `mesh` here
   double                                        joint_omega = 0; // the joints' largest frequency with every tetrahedron that may split split
 };
+// Whether r was made from this key and mesh (the same bodies, tetrahedra and node positions).
+inline bool SameInput(const InsertionInput &r, const std::vector<double> &key, const fdem::kernels::TetMesh &mesh) {
+  const auto &M = r.mesh;
+  return r.key == key && M.tets == mesh.tets && M.body == mesh.body && M.nodes.size() == mesh.nodes.size() &&
+         std::equal(M.nodes.begin(), M.nodes.end(), mesh.nodes.begin(), [](const fdem::kernels::Vec3 &a, const fdem::kernels::Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; });
+}
 } // namespace fdem::model::deformable
 
 struct _n_FDEMDeformable {
@@ -201,10 +208,20 @@ PetscErrorCode SetUpJoints(FDEMDeformable d);
 // Joints inserted during a run (deformable_insertion.cpp).
 PetscErrorCode ReadInsertedCells(MPI_Comm comm, PetscViewer viewer, std::vector<PetscInt> &cells, bool *has);
 PetscErrorCode ViewInsertedCells(FDEMDeformable d, PetscViewer viewer);
-PetscErrorCode SavedSplitDiffers(FDEMDeformable d, PetscViewer viewer, std::vector<PetscInt> &old, bool *differs);
+// Where a load takes the state it continues from: a checkpoint's viewer, or (no viewer) the
+// model `from` that a rebuild continues, with the same fields by name. Has: whether the state
+// has the field `name` (a checkpoint written by an earlier fdem may not; a viewer other than
+// HDF5 is taken to have it, as VecLoad reads it in order).
+struct SavedState {
+  PetscViewer    viewer = nullptr;
+  FDEMDeformable from   = nullptr;
+  PetscErrorCode Has(const char *name, bool *has) const;
+};
+PetscErrorCode SavedSplitDiffers(FDEMDeformable d, const SavedState &saved, std::vector<PetscInt> &old, bool *differs);
 void           NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold);
 void           JointOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<JointOrigin> &from, PetscInt *nold);
-PetscErrorCode LoadMapped(FDEMDeformable d, PetscViewer viewer, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill);
+PetscErrorCode MapFromSplit(FDEMDeformable d, Vec old, Vec nat, PetscInt nold, PetscInt per, const std::function<void(const PetscScalar *, PetscScalar *)> &fill);
+PetscErrorCode LoadJointState(FDEMDeformable d, const SavedState &saved);
 // Adds the joint forces at local positions xl into the local forces fl and records the
 // joints that break (time t, jbreaks); at the first evaluation of a TS, warns when its time step is near the joints' limit (collective).
 PetscErrorCode AddJointForces(FDEMDeformable d, PetscReal t, const PetscScalar *xl, PetscScalar *fl);

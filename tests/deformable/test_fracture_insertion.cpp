@@ -28,6 +28,11 @@
 //     x = 0.1 with their sides swapped; B's new joints get
 //     theirs): the same; B's state restarted into a model of the same split gives B's forces
 //     to the bit, and so does a checkpoint written before B's new joints started.
+//  7. A model set up with what A derived from the input mesh (FDEMDeformableReuseSetUp) is
+//     the model set up alone; one with another joint penalty makes its own.
+//  8. A model continued from A without a file (FDEMDeformableContinueNodeVector and
+//     ContinueJointState) equals, to the bit, one loaded from A's checkpoint, into B's split
+//     and into A's; continuing a model that split more is refused.
 #include "common.hpp"
 #include "../../src/model/deformable_object.hpp"
 
@@ -99,23 +104,31 @@ fdem::kernels::SplitMesh Split(const std::vector<PetscInt> &cells) {
 double NodeValue(PetscInt id, int c, int which) { return 1e-3 * (id + 1) + 1e-5 * c + 0.5 * which; }
 double PointDamage(PetscInt j, int q) { return 0.01 + 0.001 * j + 0.0001 * q; }
 
+// A node state by id (NodeValue: which 0 positions, 1 velocities) in the natural vector
+// *nat, named mesh_x or mesh_v.
+PetscErrorCode NodeVector(FDEMDeformable d, int which, Vec *nat) {
+  PetscInt        n;
+  const PetscInt *ids;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetNodeIds(d, &n, &ids));
+  PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, 3 * d->nnodes_global, nat));
+  PetscCall(PetscObjectSetName((PetscObject)*nat, which ? "mesh_v" : "mesh_x"));
+  for (PetscInt i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) PetscCall(VecSetValue(*nat, 3 * ids[i] + c, NodeValue(ids[i], c, which), INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(*nat));
+  PetscCall(VecAssemblyEnd(*nat));
+  PetscFunctionReturn(0);
+}
+
 // A's node state, by id, into the natural vectors mesh_x and mesh_v, and the joints' state (ids
 // in the split's joint order).
 PetscErrorCode Save(FDEMDeformable d, const char *file) {
-  PetscInt        n;
-  const PetscInt *ids;
-  PetscViewer     v;
+  PetscViewer v;
   PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableGetNodeIds(d, &n, &ids));
+  PetscCall(PetscViewerHDF5Open(d->comm, file, FILE_MODE_WRITE, &v));
   for (int w = 0; w < 2; ++w) {
     Vec nat;
-    PetscCall(VecCreateMPI(d->comm, PETSC_DECIDE, 3 * d->nnodes_global, &nat));
-    PetscCall(PetscObjectSetName((PetscObject)nat, w ? "mesh_v" : "mesh_x"));
-    for (PetscInt i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) PetscCall(VecSetValue(nat, 3 * ids[i] + c, NodeValue(ids[i], c, w), INSERT_VALUES));
-    PetscCall(VecAssemblyBegin(nat));
-    PetscCall(VecAssemblyEnd(nat));
-    if (w == 0) PetscCall(PetscViewerHDF5Open(d->comm, file, FILE_MODE_WRITE, &v));
+    PetscCall(NodeVector(d, w, &nat));
     PetscCall(VecView(nat, v));
     PetscCall(VecDestroy(&nat));
   }
@@ -476,6 +489,51 @@ int main(int argc, char **argv) {
     CHECK(shared[1] && wQ == wQ0 && wQ > 1.5 * wB, "a model with another joint penalty offered A's input: %s, joint frequency %.17g against %.17g set up alone (B: %g)", shared[1] ? "made its own" : "took it", wQ, wQ0, wB);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "set up reusing A's input: the same model as B (joint frequency %.6g /s); with 4 times the penalty it makes its own (%.6g /s)\n", wR, wQ));
     for (FDEMDeformable *w : {&R, &Q, &Q0}) PetscCall(FDEMDeformableDestroy(w));
+  }
+  // 8. a model continued from its predecessor without a file (FDEMDeformableContinueNodeVector,
+  //    FDEMDeformableContinueJointState) gets what loading the predecessor's checkpoint gives,
+  //    to the bit: into a larger split (B's) and into the same split (A's). A predecessor that
+  //    split tetrahedra the model keeps whole is refused.
+  {
+    Vec nat[2];
+    A->onset = 0.125; // (the contact energy taken over from removed joints, which A has none of)
+    PetscCall(Save(A, file)); // (A's state of part 1)
+    for (int w = 0; w < 2; ++w) PetscCall(NodeVector(A, w, &nat[w]));
+    for (const auto &cells : {cellsB, cellsA}) {
+      FDEMDeformable L, C; // loaded from the file, continued from A
+      PetscViewer    v;
+      PetscInt       differ = 0;
+      PetscCall(Make(PETSC_COMM_WORLD, cells, 0.5, &L));
+      PetscCall(Make(PETSC_COMM_WORLD, cells, 0.5, &C));
+      PetscCall(PetscViewerHDF5Open(PETSC_COMM_WORLD, file, FILE_MODE_READ, &v));
+      for (int w = 0; w < 2; ++w) {
+        Vec       l, c;
+        PetscBool eq;
+        PetscCall(VecCreateMPI(PETSC_COMM_WORLD, PETSC_DECIDE, 3 * L->nnodes_global, &l));
+        PetscCall(PetscObjectSetName((PetscObject)l, w ? "mesh_v" : "mesh_x"));
+        PetscCall(VecDuplicate(l, &c));
+        PetscCall(FDEMDeformableLoadNodeVector(L, v, l));
+        PetscCall(FDEMDeformableContinueNodeVector(C, A, nat[w], c));
+        PetscCall(VecEqual(l, c, &eq));
+        differ += !eq;
+        PetscCall(VecDestroy(&l));
+        PetscCall(VecDestroy(&c));
+      }
+      PetscCall(FDEMDeformableLoadJointState(L, v));
+      PetscCall(PetscViewerDestroy(&v));
+      PetscCall(FDEMDeformableContinueJointState(C, A));
+      PetscInt local = L->jstate.size() != C->jstate.size() || L->jdiss != C->jdiss || L->jgone != C->jgone || L->jfresh != C->jfresh || L->jofs.size() != C->jofs.size() || L->onset != C->onset;
+      for (size_t j = 0; !local && j < L->jstate.size(); ++j) local += std::memcmp(L->jstate[j].data(), C->jstate[j].data(), sizeof L->jstate[j]) != 0;
+      for (size_t j = 0; !local && j < L->jofs.size(); ++j) local += std::memcmp(&L->jofs[j], &C->jofs[j], sizeof L->jofs[j]) != 0;
+      differ += local;
+      PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &differ, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+      CHECK(differ == 0, "a model of %zu split cells continued from A differs from the one loaded from A's checkpoint (%" PetscInt_FMT " differences)", cells.size(), differ);
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "continued from A without a file, %zu cells split: the nodes and joints loading A's checkpoint gives (%" PetscInt_FMT " joints)\n", cells.size(), C->njoints_global));
+      PetscCall(FDEMDeformableDestroy(&L));
+      PetscCall(FDEMDeformableDestroy(&C));
+    }
+    PetscCall(ExpectError("continuing a model that split tetrahedra this one keeps whole", {"model continued from", "keeps whole"}, [&]() { return FDEMDeformableContinueJointState(A, B); }));
+    for (Vec &w : nat) PetscCall(VecDestroy(&w));
   }
   PetscCall(FDEMDeformableDestroy(&A));
   PetscCall(FDEMDeformableDestroy(&B));
