@@ -423,8 +423,8 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     b.contact += e;
   }
   if (s.dfm) {
-    PetscReal k, str, g, stored;
-    PetscCall(FDEMDeformableGetEnergy(s.dfm, nullptr, &k, &str, &g));
+    PetscReal g, stored;
+    PetscCall(FDEMDeformableGetEnergy(s.dfm, nullptr, nullptr, nullptr, &g)); // (the rest came with the invariants)
     PetscCall(FDEMDeformableGetJointEnergy(s.dfm, nullptr, &stored, &b.fracture));
     b.gravity += g;
     b.strain += stored; // the joints' recoverable energy is strain energy of the body
@@ -628,58 +628,34 @@ PetscErrorCode RigidFields(Sim &s, Vec r, bool to_vec) {
   PetscFunctionReturn(0);
 }
 
-// The state in its natural order (by node and body id, the layout of a checkpoint): the
-// deformable nodes' x and v, the rigid bodies' fields, springs, images and work.
-PetscErrorCode ToNatural(Sim &s, Parts &p) {
+// Moves the state between the models and its natural order (by node and body id, the layout
+// of a checkpoint): `to` the natural vectors (the deformable nodes' x and v, the rigid bodies'
+// fields, springs, images and work), or back from them, the springs only with has_h and the
+// images with has_g (a checkpoint written before they were kept has none).
+PetscErrorCode Natural(Sim &s, Parts &p, bool to, bool has_h = true, bool has_g = true) {
+  const auto move = [to](VecScatter sc, Vec local, Vec nat) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(VecScatterBegin(sc, to ? local : nat, to ? nat : local, INSERT_VALUES, to ? SCATTER_FORWARD : SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(sc, to ? local : nat, to ? nat : local, INSERT_VALUES, to ? SCATTER_FORWARD : SCATTER_REVERSE));
+    PetscFunctionReturn(0);
+  };
+  // a rigid part: the swarm's fields copied into `local` (fill), then moved
+  const auto part = [&](PetscErrorCode (*fill)(Sim &, Vec, bool), VecScatter sc, Vec local, Vec nat) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    if (to) PetscCall(fill(s, local, true));
+    PetscCall(move(sc, local, nat));
+    if (!to) PetscCall(fill(s, local, false));
+    PetscFunctionReturn(0);
+  };
   PetscFunctionBeginUser;
   if (s.dfm) {
-    PetscCall(VecScatterBegin(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sd, p.dx, p.ndx, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterBegin(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sd, p.dv, p.ndv, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(move(p.sd, p.dx, p.ndx));
+    PetscCall(move(p.sd, p.dv, p.ndv));
   }
   if (s.rb) {
-    PetscCall(RigidFields(s, p.r, true));
-    PetscCall(VecScatterBegin(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(p.sr, p.r, p.nr, INSERT_VALUES, SCATTER_FORWARD));
-    if (p.h) {
-      PetscCall(RigidSprings(s, p.h, true));
-      PetscCall(VecScatterBegin(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecScatterEnd(p.sh, p.h, p.nh, INSERT_VALUES, SCATTER_FORWARD));
-    }
-    if (p.g) {
-      PetscCall(RigidImagesWork(s, p.g, true));
-      PetscCall(VecScatterBegin(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(VecScatterEnd(p.sg, p.g, p.ng, INSERT_VALUES, SCATTER_FORWARD));
-    }
-  }
-  PetscFunctionReturn(0);
-}
-
-// The inverse of ToNatural for the parts that were filled: the deformable nodes (after their
-// natural vectors are loaded), the rigid fields, and the springs (has_h) and images (has_g).
-PetscErrorCode FromNatural(Sim &s, Parts &p, bool has_h, bool has_g) {
-  PetscFunctionBeginUser;
-  if (s.dfm) {
-    PetscCall(VecScatterBegin(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sd, p.ndx, p.dx, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterBegin(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sd, p.ndv, p.dv, INSERT_VALUES, SCATTER_REVERSE));
-  }
-  if (s.rb) {
-    PetscCall(VecScatterBegin(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(p.sr, p.nr, p.r, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(RigidFields(s, p.r, false));
-    if (has_h) {
-      PetscCall(VecScatterBegin(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(VecScatterEnd(p.sh, p.nh, p.h, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(RigidSprings(s, p.h, false));
-    }
-    if (has_g) {
-      PetscCall(VecScatterBegin(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(VecScatterEnd(p.sg, p.ng, p.g, INSERT_VALUES, SCATTER_REVERSE));
-      PetscCall(RigidImagesWork(s, p.g, false));
-    }
+    PetscCall(part(RigidFields, p.sr, p.r, p.nr));
+    if (p.h && has_h) PetscCall(part(RigidSprings, p.sh, p.h, p.nh));
+    if (p.g && has_g) PetscCall(part(RigidImagesWork, p.sg, p.g, p.ng));
   }
   PetscFunctionReturn(0);
 }
@@ -704,7 +680,7 @@ PetscErrorCode SimWriteCheckpoint(Sim &s, const char *file, PetscReal t, PetscIn
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank));
   PetscCall(MakeParts(s, p));
-  PetscCall(ToNatural(s, p));
+  PetscCall(Natural(s, p, true));
   PetscCall(PetscViewerHDF5Open(s.comm, file, FILE_MODE_WRITE, &v));
   if (s.dfm) {
     PetscCall(VecView(p.ndx, v));
@@ -756,7 +732,7 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
     if (p.g) PetscCall(PetscViewerHDF5HasDataset(v, "/rigid_image_work", &has_g));
     if (has_g) PetscCall(VecLoad(p.ng, v));
   }
-  PetscCall(FromNatural(s, p, has_h, has_g));
+  PetscCall(Natural(s, p, false, has_h, has_g));
   PetscMPIInt rank0;
   PetscCallMPI(MPI_Comm_rank(s.comm, &rank0));
   PetscCall(VecCreateMPI(s.comm, rank0 == 0 ? 5 : 0, 5, &meta)); // all on rank 0
@@ -795,7 +771,7 @@ static PetscErrorCode SimContinueState(Sim &to, Sim &from) {
   PetscFunctionBeginUser;
   PetscCall(MakeParts(from, a));
   PetscCall(MakeParts(to, b));
-  PetscCall(ToNatural(from, a));
+  PetscCall(Natural(from, a, true));
   if (to.dfm) {
     PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndx, b.ndx));
     PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndv, b.ndv));
@@ -806,7 +782,7 @@ static PetscErrorCode SimContinueState(Sim &to, Sim &from) {
     if (b.h) PetscCall(VecCopy(a.nh, b.nh));
     if (b.g) PetscCall(VecCopy(a.ng, b.ng));
   }
-  PetscCall(FromNatural(to, b, b.h, b.g));
+  PetscCall(Natural(to, b, false));
   PetscCall(ExternalWork(from, &W));
   PetscCall(SetClock(to, from.E0, W));
   PetscCall(a.Destroy());

@@ -267,7 +267,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableRestoreState(FDEMDeformable dfm, Vec U
    energy (exact potential for neo_hookean and small_strain_linear; for
    munjiza_cst, which is Cauchy-elastic but not hyperelastic, the neo-Hookean
    potential with the same G and K, equal to third order in the strain) and
-   gravity potential -sum m g.x. */
+   gravity potential -sum m g.x. Each output may be NULL; without `strain` the
+   elements are not visited (pass NULL the same way on every rank). */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetEnergy(FDEMDeformable dfm, Vec U, PetscReal *kinetic, PetscReal *strain, PetscReal *gravity);
 /* Total mass, centre of mass, linear momentum and angular momentum about the origin. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableGetMomentum(FDEMDeformable dfm, Vec U, PetscReal *mass, PetscReal com[3], PetscReal P[3], PetscReal L[3]);

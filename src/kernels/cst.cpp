@@ -476,9 +476,10 @@ ElementData BuildElementData(const std::vector<Vec3> &X, const std::vector<std::
     const Vec3 X0 = X[el.n[0]];
     const Mat3 Xe = Mat3::columns(X[el.n[1]] - X0, X[el.n[2]] - X0, X[el.n[3]] - X0);
     const double dX = det(Xe);
-    double h = 0;
+    double h2 = 0; // the longest edge (one square root: the root of the largest square is the largest root)
     for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) h = std::max(h, norm(X[el.n[a]] - X[el.n[b]]));
+      for (int b = a + 1; b < 4; ++b) h2 = std::max(h2, dot(X[el.n[a]] - X[el.n[b]], X[el.n[a]] - X[el.n[b]]));
+    const double h = std::sqrt(h2);
     if (!(dX > 1e-12 * h * h * h)) {
       std::ostringstream o;
       o << where() << ": reference volume " << dX / 6.0

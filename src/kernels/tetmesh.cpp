@@ -85,10 +85,17 @@ std::uint64_t HilbertIndex(const std::uint32_t X_in[3], int bits) {
   std::uint32_t t = 0;
   for (std::uint32_t q = 1u << (bits - 1); q > 1; q >>= 1) t ^= (q - 1) & (0u - (std::uint32_t)((X[2] & q) != 0));
   for (int i = 0; i < 3; ++i) X[i] ^= t;
-  std::uint64_t key = 0;
-  for (int b = bits - 1; b >= 0; --b)
-    for (int i = 0; i < 3; ++i) key = (key << 1) | ((X[i] >> b) & 1u);
-  return key;
+  // interleave: bit b of X[0], X[1], X[2] goes to bit 3b + 2, 3b + 1, 3b of the key
+  const auto spread = [bits](std::uint32_t x) {
+    std::uint64_t v = x & ((1u << bits) - 1); // (bits <= 21)
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  return spread(X[0]) << 2 | spread(X[1]) << 1 | spread(X[2]);
 }
 
 std::uint64_t HilbertKey(const Vec3 &x, const Vec3 &lo, const Vec3 &hi) {

@@ -155,6 +155,18 @@ PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable d, PetscReal t, Vec U,
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode fdem::model::DeformableEvaluateHooks(FDEMDeformable d, PetscReal t) {
+  StateView sv;
+  PetscFunctionBegin;
+  PetscCall(CheckSetUp(d, "DeformableEvaluateHooks"));
+  PetscCall(sv.Get(d, nullptr));
+  PetscCall(LocalPositions(d, sv.xa, sv.va));
+  PetscCall(sv.Restore());
+  PetscCall(VecSet(d->floc, 0));
+  for (const auto &e : d->ext) PetscCall(e.first(d, t, d->xloc, d->vloc, d->floc, e.second));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMDeformableSetUpTS(FDEMDeformable d, TS ts, Vec *U) {
   PetscInt     start;
   PetscScalar *u;

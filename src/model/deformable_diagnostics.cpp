@@ -61,20 +61,22 @@ PetscErrorCode FDEMDeformableGetEnergy(FDEMDeformable d, Vec U, PetscReal *kinet
     loc[2] -= ma[i] * d->g[i % 3] * sv.xa[i];
   }
   PetscCall(VecRestoreArrayRead(d->m, &ma));
-  PetscCall(LocalPositions(d, sv.xa, nullptr));
+  if (strain) PetscCall(LocalPositions(d, sv.xa, nullptr)); // (collective: NULL or not on every rank)
   PetscCall(sv.Restore());
-  PetscCall(VecGetArrayRead(d->xloc, &xl));
-  for (const auto &el : d->ed.elems) {
-    const Vec3 x0(xl[3 * el.n[0]], xl[3 * el.n[0] + 1], xl[3 * el.n[0] + 2]);
-    Vec3       e[3];
-    for (int a = 1; a < 4; ++a) e[a - 1] = Vec3(xl[3 * el.n[a]], xl[3 * el.n[a] + 1], xl[3 * el.n[a] + 2]) - x0;
-    Mat3 Xi;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) Xi.m[r][c] = el.Xinv[3 * r + c];
-    const Mat3 F = Mat3::columns(e[0], e[1], e[2]) * Xi;
-    loc[1] += el.V0 * fdem::kernels::MaterialModels()[d->materials[el.material].model].energy(d->ed.coeffs[el.material], F);
+  if (strain) {
+    PetscCall(VecGetArrayRead(d->xloc, &xl));
+    for (const auto &el : d->ed.elems) {
+      const Vec3 x0(xl[3 * el.n[0]], xl[3 * el.n[0] + 1], xl[3 * el.n[0] + 2]);
+      Vec3       e[3];
+      for (int a = 1; a < 4; ++a) e[a - 1] = Vec3(xl[3 * el.n[a]], xl[3 * el.n[a] + 1], xl[3 * el.n[a] + 2]) - x0;
+      Mat3 Xi;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) Xi.m[r][c] = el.Xinv[3 * r + c];
+      const Mat3 F = Mat3::columns(e[0], e[1], e[2]) * Xi;
+      loc[1] += el.V0 * fdem::kernels::MaterialModels()[d->materials[el.material].model].energy(d->ed.coeffs[el.material], F);
+    }
+    PetscCall(VecRestoreArrayRead(d->xloc, &xl));
   }
-  PetscCall(VecRestoreArrayRead(d->xloc, &xl));
   PetscCall(MPIU_Allreduce(loc, glob, 3, MPIU_REAL, MPIU_SUM, d->comm));
   if (kinetic) *kinetic = glob[0];
   if (strain) *strain = glob[1];

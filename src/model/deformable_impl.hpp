@@ -15,6 +15,10 @@ namespace fdem::model {
 // null): (f_int + f_ext)/m + g, 0 at fixed nodes. The one implementation of
 // this rule; FDEMDeformableSetUpTS's RHS calls it too. Collective.
 PetscErrorCode DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *ao);
+// The external-force hooks alone at the stored state (FDEMDeformableComputeForces with U
+// NULL, without the internal and joint forces), their forces dropped: what a diagnostic
+// needs of them, a contact object's energy, at the cost of the hooks. Collective.
+PetscErrorCode DeformableEvaluateHooks(FDEMDeformable d, PetscReal t);
 // This rank's cells as local node indices (the indexing of the hook's
 // xloc/vloc/floc, 3 entries per local node), the global vertex number of
 // every local node, and the number of local nodes.

@@ -2,9 +2,10 @@
 // during a run"): a fracturable body with an insertion ratio starts split only in its
 // fracture zones; the tetrahedra whose stress nears the strength are found between steps
 // (FDEMDeformableFindCellsToSplit) and the caller builds the model again with them split
-// (FDEMDeformableAddFractureCells), loading the state saved before (a checkpoint) into the
-// larger split: each copy of a node takes the state of the node its tetrahedron had, each
-// joint that existed the state it had, and a new joint starts intact.
+// (FDEMDeformableAddFractureCells), taking the old model's state (FDEMDeformableContinue*) or
+// loading a checkpoint written before into the larger split: each copy of a node takes the
+// state of the node its tetrahedron had, each joint that existed the state it had, and a new
+// joint starts intact.
 #include "../util/guard.hpp"
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"

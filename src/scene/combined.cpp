@@ -355,19 +355,16 @@ PetscErrorCode FDEMSceneGetInvariants(FDEMScene s, Vec U, PetscReal t, PetscReal
     }
   }
   if (s->contact) {
-    // the contact energy at U: one force evaluation of the mesh with the rigid positions of U
+    // the contact energy at U: one evaluation of the mesh's contact hook with the rigid
+    // positions of U (the internal and joint forces are not needed)
     const PetscScalar *u;
-    Vec                F, x;
-    PetscCall(FDEMDeformableGetPositions(s->dfm, &x));
-    PetscCall(VecDuplicate(x, &F));
     PetscCall(VecGetArrayRead(U, &u));
     s->cur_rq     = u + OffRigid(s);
     s->cur_ru     = u + OffRigid(s);
     s->evaluating = true;
-    PetscCall(FDEMDeformableComputeForces(s->dfm, t, nullptr, F));
+    PetscCall(fdem::model::DeformableEvaluateHooks(s->dfm, t));
     s->evaluating = false;
     PetscCall(VecRestoreArrayRead(U, &u));
-    PetscCall(VecDestroy(&F));
     Et[3] = s->c->engine.GetStats().energy;
   }
   for (int k = 0; k < 3; ++k) {
