@@ -12,7 +12,6 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cstring>
 #include <cmath>
 
