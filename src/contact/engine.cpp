@@ -238,7 +238,8 @@ PetscErrorCode Engine::ListAll() {
     PetscInt               n = 0;
     PetscCall(adapters_[k]->List(p));
     for (auto &q : p) q.kind = (std::int32_t)k;
-    prim_.insert(prim_.end(), p.begin(), p.end());
+    if (prim_.empty()) prim_.swap(p); // (a mesh lists thousands of records: not copied twice)
+    else prim_.insert(prim_.end(), p.begin(), p.end());
     first_[k + 1] = (int)prim_.size();
     if (par_.buffer < 0) {
       PetscCall(adapters_[k]->BufferProposal(&s, &n));

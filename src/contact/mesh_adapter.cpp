@@ -245,23 +245,33 @@ PetscErrorCode MeshAdapter::Margins(PetscReal half, PetscInt, PetscReal *m) {
 }
 
 PetscErrorCode MeshAdapter::MoveRatio(PetscReal *ratio) {
-  PetscReal move2 = 0; // the largest squared move (its root is the largest move: one root, not one a vertex)
+  PetscReal move2 = 0; // the largest squared move (its root is the largest move: one root, not one a node)
   PetscFunctionBegin;
-  for (size_t t = 0; t < conn_.size(); ++t)
-    for (int q = 0; q < 4; ++q) {
-      const PetscInt a = 3 * conn_[t][q];
-      const Vec3    &r = ref_[t][q];
-      move2            = std::max(move2, PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2]));
-    }
+  for (size_t i = 0; i < ref_node_.size(); ++i) {
+    const PetscInt   a = 3 * ref_node_[i];
+    const PetscReal *r = &ref_x_[3 * i];
+    move2              = std::max(move2, PetscSqr(PetscRealPart(xl_[a]) - r[0]) + PetscSqr(PetscRealPart(xl_[a + 1]) - r[1]) + PetscSqr(PetscRealPart(xl_[a + 2]) - r[2]));
+  }
   const PetscReal move = PetscSqrtReal(move2);
   *ratio               = half_ > 0 ? move / half_ : move > 0 ? PETSC_MAX_REAL : 0;
   PetscFunctionReturn(0);
 }
 
+// The nodes of the listed cells, each once (a node is the corner of many cells: the test of
+// every evaluation reads each once), and their positions now.
 PetscErrorCode MeshAdapter::Searched() {
   PetscFunctionBegin;
-  ref_.resize(conn_.size());
-  PetscCall(Gather(nullptr, ref_.data(), nullptr));
+  PetscInt n = 0;
+  for (const auto &c : conn_) n = std::max(n, 1 + *std::max_element(c.begin(), c.end()));
+  std::vector<char> used(n, 0);
+  for (const auto &c : conn_)
+    for (PetscInt a : c) used[a] = 1;
+  ref_node_.clear();
+  for (PetscInt a = 0; a < n; ++a)
+    if (used[a]) ref_node_.push_back(a);
+  ref_x_.resize(3 * ref_node_.size());
+  for (size_t i = 0; i < ref_node_.size(); ++i)
+    for (int k = 0; k < 3; ++k) ref_x_[3 * i + k] = PetscRealPart(xl_[3 * ref_node_[i] + k]);
   PetscFunctionReturn(0);
 }
 

@@ -91,7 +91,8 @@ private:
   std::vector<Primitive>               prims_; // body, global element id, node global ids
   std::vector<char>                    faces_; // bit o: the face opposite node o is on the boundary
   std::vector<PetscReal>               body_force_;
-  std::vector<Vertices>                ref_; // vertex positions at the last search
+  std::vector<PetscInt>                ref_node_; // the local nodes of the listed cells, each once, in order
+  std::vector<PetscReal>               ref_x_;    // their positions at the last search (3 a node)
   PetscReal                            half_ = 0; // the margin of every cell (Margins)
   const PetscScalar                   *xl_ = nullptr, *vl_ = nullptr;
   PetscScalar                         *fl_ = nullptr;
