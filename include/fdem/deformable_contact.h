@@ -72,7 +72,8 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableContactGetBodyForce(FDEMDeformableCont
    *ratio (may be NULL) = omega_c dt / K_crit of the fdem TS type `scheme`. Prints a warning
    when the ratio exceeds 0.5. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableContact c, const char *scheme, PetscReal dt, PetscReal *ratio);
-/* Collective: contact energy at the state U (NULL: stored state); evaluates the forces there. */
+/* Collective: contact energy at the state U (NULL: stored state); evaluates the mesh's force
+   hooks there (the contact), not its internal or joint forces. */
 PETSC_EXTERN PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy);
 
 #if defined(__cplusplus)

@@ -92,13 +92,8 @@ PetscErrorCode FDEMDeformableContactGetBodyForce(FDEMDeformableContact c, PetscI
 PetscErrorCode FDEMDeformableContactCheckTimeStep(FDEMDeformableContact c, const char *scheme, PetscReal dt, PetscReal *ratio) { return c->engine.CheckTimeStep(scheme, dt, ratio); }
 
 PetscErrorCode FDEMDeformableContactComputeEnergy(FDEMDeformableContact c, Vec U, PetscReal *energy) {
-  DM  dm;
-  Vec F;
   PetscFunctionBegin;
-  PetscCall(FDEMDeformableGetDM(c->d, &dm));
-  PetscCall(DMGetGlobalVector(dm, &F));
-  PetscCall(FDEMDeformableComputeForces(c->d, 0, U, F));
-  PetscCall(DMRestoreGlobalVector(dm, &F));
+  PetscCall(fdem::model::DeformableEvaluateHooks(c->d, 0, U)); // the contact alone: no internal or joint forces
   *energy = c->engine.GetStats().energy;
   PetscFunctionReturn(0);
 }

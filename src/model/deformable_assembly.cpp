@@ -155,11 +155,11 @@ PetscErrorCode FDEMDeformableComputeForces(FDEMDeformable d, PetscReal t, Vec U,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fdem::model::DeformableEvaluateHooks(FDEMDeformable d, PetscReal t) {
+PetscErrorCode fdem::model::DeformableEvaluateHooks(FDEMDeformable d, PetscReal t, Vec U) {
   StateView sv;
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableEvaluateHooks"));
-  PetscCall(sv.Get(d, nullptr));
+  PetscCall(sv.Get(d, U));
   PetscCall(LocalPositions(d, sv.xa, sv.va));
   PetscCall(sv.Restore());
   PetscCall(VecSet(d->floc, 0));

@@ -15,10 +15,11 @@ namespace fdem::model {
 // null): (f_int + f_ext)/m + g, 0 at fixed nodes. The one implementation of
 // this rule; FDEMDeformableSetUpTS's RHS calls it too. Collective.
 PetscErrorCode DeformableAcceleration(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *ao);
-// The external-force hooks alone at the stored state (FDEMDeformableComputeForces with U
-// NULL, without the internal and joint forces), their forces dropped: what a diagnostic
-// needs of them, a contact object's energy, at the cost of the hooks. Collective.
-PetscErrorCode DeformableEvaluateHooks(FDEMDeformable d, PetscReal t);
+// The external-force hooks alone at U (a state from FDEMDeformableSetUpTS; NULL: the stored
+// state), as FDEMDeformableComputeForces evaluates them but without the internal and joint
+// forces, their forces dropped: what a diagnostic needs of them, a contact object's energy,
+// at the cost of the hooks. Collective.
+PetscErrorCode DeformableEvaluateHooks(FDEMDeformable d, PetscReal t, Vec U = nullptr);
 // This rank's cells as local node indices (the indexing of the hook's
 // xloc/vloc/floc, 3 entries per local node), the global vertex number of
 // every local node, and the number of local nodes.
