@@ -250,7 +250,8 @@ PetscErrorCode Engine::ListAll() {
   nl_ = (int)prim_.size();
   x_.resize(nl_);
   f_.resize(nl_);
-  PetscInt np = nl_;
+  PetscInt np = 0; // (the idle ones are not in contact)
+  for (const auto &q : prim_) np += q.idle ? 0 : 1;
   PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
   {
     PetscBool mine[2] = {PETSC_FALSE, PETSC_FALSE}, any[2]; // a sphere, another shape
@@ -530,10 +531,12 @@ PetscErrorCode Engine::Search() {
           itself = ad->SelfPair(A, B) ? 1 : 2;
           if (itself == 2 && !keep) continue;
         }
+        const bool idle = A.idle || B.idle; // not paired now, as itself == 2
+        if (idle && !keep) continue;
         // apart for as long as neither moves more than its margin: not a candidate (not tested
         // for a pair not paired now: kept for a listing that pairs it, it is a candidate then)
         const double gap = A.margin + B.margin;
-        if (itself == 2) { // (no gap test: see above)
+        if (itself == 2 || idle) { // (no gap test: see above)
         } else if (spheres == 2) {
           if (norm(X(a)[0] - X(b)[0]) > A.radius + B.radius + gap) continue;
         } else if (spheres == 1) { // the centre beyond a face plane of the tetrahedron by more than the radius
@@ -546,8 +549,8 @@ PetscErrorCode Engine::Search() {
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
-        if (keep) kept_.push_back({a, b, itself});
-        if (itself == 2) continue;
+        if (keep) kept_.push_back({a, b, idle && itself == 0 ? 3 : itself}); // 3: two bodies, idle
+        if (itself == 2 || idle) continue;
         if (spheres == 0) pairs_.push_back({a, b});
         else if (spheres == 2) ss_.push_back(HolderIsFirst(P(a), P(b)) ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a}); // the holder first
         else st_.push_back(P(a).shape == kSphere ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a});                      // the sphere first
@@ -612,10 +615,11 @@ PetscErrorCode Engine::PairsListed() {
 
 // A listing that fracture caused keeps the search when the primitives are the ones listed before,
 // in the same order (only their records changed: free faces, node keys, the flags of damaged
-// cells), on every rank: the candidates that the search found by their boxes (kept_) are still
-// all the pairs that can touch before the next search, and only whether a body's adapter pairs
-// two of its own primitives (SelfPair) may have changed. The pairs are taken again from kept_,
-// each keeping the axis that last found it apart; the ghosts get their records again. Only where
+// cells, whether one is idle), on every rank: the candidates that the search found by their
+// boxes (kept_) are still all the pairs that can touch before the next search, and only whether
+// a body's adapter pairs two of its own primitives (SelfPair) and which are idle may have
+// changed. The pairs are taken again from kept_, each keeping the axis that last found it
+// apart; the ghosts get their records again. Only where
 // an adapter may list again (fracture), and not with spheres (their springs and surface groups
 // are made at a search) or periodic images.
 bool Engine::Keepable() const {
@@ -646,7 +650,8 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
     const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
     const std::int8_t  s   = was ? sep_[j] : 0;
     if (was) ++j;
-    if (c[2] != 0 && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
+    if (P(c[0]).idle || P(c[1]).idle) continue;
+    if ((c[2] == 1 || c[2] == 2) && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
     pairs.push_back({c[0], c[1]});
     sep.push_back(s);
     fresh_.push_back(was ? 0 : 1);

@@ -53,6 +53,9 @@ struct Primitive {
   double       mass    = 0;  // the body's mass, for the granular laws' effective mass; 0: immovable (fixed, a mesh)
   double       offset  = 0;  // a sphere of a clump: its centre's distance from the clump's centre of mass, and
   double       inertia = 0;  // the clump's least principal moment (the time-step check, GranularStableOmega)
+  std::int32_t idle    = 0;  // 1: listed, but in no pair for now (its adapter lists it so that a listing that makes
+                             // it take part keeps the search: the mesh adapter's cells at joints of a body whose
+                             // joints are inserted during the run); searched and moved as any other
   std::int64_t group   = -1; // the adapter's: two primitives of one body with one group >= 0 are not paired (the mesh
                              // adapter: an unsplit tetrahedron of a body with fracture zones, its fragment's id)
   float        share[10] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1}; // tetrahedron: the weight of a sphere's contact with its
@@ -359,7 +362,7 @@ private:
   std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it
   bool                            fresh_valid_ = false; // fresh_ is this evaluation's (else old_pairs_ is sorted and searched)
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
-  std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 1 within a body, 2 within a body and not paired by its adapter at the search
+  std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 0 between two bodies, 1 within a body, 2 within a body and not paired by its adapter at the search, 3 between two bodies, one of them idle at the search
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
   // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <tuple>
 
 namespace fdem::contact {
 PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, Spheres spheres, MeshAdapter **out) {
@@ -26,6 +27,7 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, S
   m->which_     = which;
   m->fractured_ = joints;
   m->weights_   = spheres == Spheres::Weighted;
+  m->stable_    = joints && spheres == Spheres::None;
   AllCells &A   = m->all_;
   A.conn.resize(4 * (size_t)nc);
   A.body.resize(nc);
@@ -94,8 +96,12 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   conn_.clear();
   prims_.clear();
   faces_.clear();
-  // the cells taken and their surfaces first, so that the lists are allocated once
-  std::vector<std::pair<PetscInt, char>> taken;
+  // the cells taken and their surfaces first, so that the lists are allocated once; with
+  // stable listings, a cell at a joint of a body whose joints are inserted during the run is
+  // taken idle when nothing else takes it (a listing then changes at a rebuild, not each time
+  // a joint softens or breaks: the engine keeps its search)
+  const bool                                    stable = t && stable_;
+  std::vector<std::tuple<PetscInt, char, bool>> taken;
   for (size_t e = 0; e < nc; ++e) {
     const bool frac = t && t->fracturable[A.body[e]];
     char       surf = A.surf[e];
@@ -110,12 +116,13 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
       if (which_ == Cells::BoundaryVertex)
         for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
     }
-    if (on) taken.push_back({(PetscInt)e, surf});
+    const bool idle = !on && stable && frac && (t->cell_free[e] & 0x80);
+    if (on || idle) taken.push_back({(PetscInt)e, surf, idle});
   }
   conn_.reserve(taken.size());
   prims_.reserve(taken.size());
   faces_.reserve(taken.size());
-  for (const auto &[e, surf] : taken) {
+  for (const auto &[e, surf, idle] : taken) {
     const bool frac = t && t->fracturable[A.body[e]];
     Primitive  p;
     p.body = A.body[e];
@@ -128,6 +135,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     // (with the damaged cells in contact): SelfPair
     const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
     p.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
+    p.idle          = idle ? 1 : 0;
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
     if (frac && !share_.empty()) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
@@ -347,14 +355,17 @@ PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
   const PetscScalar *xa;
   PetscFunctionBegin;
   *sum   = 0;
-  *count = (PetscInt)conn_.size();
+  *count = 0;
   PetscCall(FDEMDeformableGetDM(d_, &dm));
   PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
   PetscCall(DMGetLocalVector(dm, &Xl));
   PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
   PetscCall(VecGetArrayRead(Xl, &xa));
-  for (const auto &T : conn_) {
-    PetscReal diam = 0;
+  for (size_t i = 0; i < conn_.size(); ++i) {
+    if (prims_[i].idle) continue; // (the buffer of the cells in contact, as without idle ones)
+    const auto &T    = conn_[i];
+    PetscReal   diam = 0;
+    ++*count;
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
         PetscReal dd = 0;

@@ -84,6 +84,7 @@ private:
   bool                                 damaged_cells_ = true; // -fdem_joint_damaged_contact: the cells of damaged joints take part
   std::vector<std::array<PetscInt, 2>> broken_;            // their cells' ids, smaller first, sorted
   bool                                 weights_ = false;   // Spheres::Weighted: share_ is kept
+  bool                                 stable_ = false;    // the listing takes idle cells (Select): joints, and no spheres (whose engine searches at every listing)
   std::vector<float>                   share_;             // per local cell, 10: the weights of its vertices' and edges' copies (DeformableFeatureShares), as of nbroken_ (empty: all 1)
   FDEMDeformable                       d_ = nullptr;
   PetscInt                             nbodies_ = 0;

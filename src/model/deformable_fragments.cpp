@@ -533,13 +533,22 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   t.cell_free.resize(nc);
   t.cell_key.resize(4 * (std::size_t)nc);
   t.cell_fragment.resize(nc);
+  std::vector<unsigned char> jointed(nc, 0), inserts(d->body_names.size(), 0); // a face is a joint, in a body with insertion
+  for (std::size_t b = 0; b < inserts.size(); ++b) {
+    const auto it = d->insertion.find(d->body_names[b]);
+    inserts[b]    = it != d->insertion.end() && it->second > 0;
+  }
+  const auto inserting = [&](PetscInt e) { return (unsigned char)inserts[d->ed.body[e]]; };
+  for (PetscInt j = 0; j < nj; ++j) jointed[ca[j]] = inserting(ca[j]);
+  if (d->jfsf)
+    for (PetscInt r : tc.glued) jointed[r / 12] = inserting(r / 12);
   for (PetscInt e = 0; e < nc; ++e) {
     bool onfree = false;
     for (int a = 0; a < 4; ++a) {
       t.cell_key[4 * e + a] = nodes.Label(node(e, a));
       onfree                = onfree || nodes.flag[nodes.Find(node(e, a))];
     }
-    t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0));
+    t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0) | (jointed[e] ? 0x80 : 0));
     t.cell_fragment[e] = cells.Label(e);
   }
   d->topology      = t;

@@ -42,7 +42,8 @@ struct FractureTopology {
   // which includes the faces it shares with unsplit cells, so the surface is these bits
   // and the mesh's boundary faces); bit 4 set when a vertex lies on the free surface of a
   // split cell (its key is that of a node of such a face); bit 5 set when a face of the
-  // cell is a damaged joint (a point beyond its peak, or broken)
+  // cell is a damaged joint (a point beyond its peak, or broken); bit 7 set when a face of
+  // the cell is a joint (intact or not) of a body whose joints are inserted during the run
   std::vector<unsigned char>           cell_free;
   // 4 per local cell: the key of each node, the smallest split-mesh id among the copies of
   // its input node glued to it through intact joints (its own id outside fracturable bodies)
