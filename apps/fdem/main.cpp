@@ -96,8 +96,10 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   }
   if (first.empty() && std::regex_search(msg, m, std::regex("fracture material '([^']*)'")) && sc.FindMaterial(m[1])) // a joint's parameters: the material's fracture:
     first = sc.FindMaterial(m[1])->fracture.where;
-  if (first.empty() && std::regex_search(msg, m, std::regex("\\bbody '([^']*)'"))) // any other body named ("element 0 of body 'e' inverted")
+  if (first.empty() && std::regex_search(msg, m, std::regex("\\bbody '([^']*?)(?: \\(id \\d+\\))?'"))) // any other body named ("element 0 of body 'e' inverted", "body 'a (id 1)': tetrahedron 0 ...")
     msg = m.prefix().str() + "body " + by_name(m[1]) + m.suffix().str();
+  if (first.empty() && std::regex_search(msg, m, std::regex("(Rigid body|Sphere|Clump) (.*?) \\(id \\d+\\)"))) // the rigid bodies' set-up ("Rigid body a (id 1): mass inf must be positive")
+    msg = m.prefix().str() + m[1].str() + " " + by_name(m[2]) + m.suffix().str();
   if (first.empty() && !sc.petsc.empty()) { // a message naming an option or value of the scene's petsc: string ("Input string abc has no numeric value")
     std::istringstream words(sc.petsc);
     for (std::string w; words >> w;)
