@@ -167,6 +167,7 @@ void ApplyAuto(Scene &sc, double strain_limit, std::vector<std::string> &report)
     }
     const Material *m = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
     if (a.model == "deformable" && !(m && m->young > 0)) throw SceneError(b.where + ": body '" + b.name + "': model: auto: it needs a mesh (" + a.why + "), and a deformable body needs a material with young");
+    if (a.model == "deformable" && sc.periodic.Any()) throw SceneError(b.where + ": body '" + b.name + "': model: auto: it needs a mesh (" + a.why + "), and periodic boundaries (periodic: at " + sc.periodic.where + ") hold rigid bodies and spheres only; give it model: rigid or sphere");
     b.model = a.model;
     report.push_back("model: auto: body '" + b.name + "' is " + a.model + " (" + a.why + ")");
   }

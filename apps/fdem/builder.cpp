@@ -298,7 +298,8 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   }
   if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
-  PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)", sc.file.c_str(),
+  PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)",
+             s.deformable_bodies.empty() ? sc.file.c_str() : sc.bodies[s.deformable_bodies[0]].where.c_str(),
              sc.periodic.where.c_str(), s.deformable_bodies.empty() ? "" : sc.bodies[s.deformable_bodies[0]].name.c_str());
   if (!s.deformable_bodies.empty()) PetscCall(BuildDeformable(s, fracture_cells, previous));
   PetscCall(FDEMSceneCreate(comm, &s.sc));

@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <regex>
+#include <sstream>
 #include <string>
 
 using namespace fdem::driver;
@@ -93,6 +94,21 @@ std::string NameBodies(const Scene &sc, std::string msg) {
     const size_t z = std::stoul(m[2]);
     if (b && z < b->fracture_zones.size()) first = b->fracture_zones[z].where;
   }
+  if (first.empty() && std::regex_search(msg, m, std::regex("fracture material '([^']*)'")) && sc.FindMaterial(m[1])) // a joint's parameters: the material's fracture:
+    first = sc.FindMaterial(m[1])->fracture.where;
+  if (first.empty() && std::regex_search(msg, m, std::regex("\\bbody '([^']*?)(?: \\(id \\d+\\))?'"))) // any other body named ("element 0 of body 'e' inverted", "body 'a (id 1)': tetrahedron 0 ...")
+    msg = m.prefix().str() + "body " + by_name(m[1]) + m.suffix().str();
+  if (first.empty() && std::regex_search(msg, m, std::regex("(Rigid body|Sphere|Clump) (.*?) \\(id \\d+\\)"))) // the rigid bodies' set-up ("Rigid body a (id 1): mass inf must be positive")
+    msg = m.prefix().str() + m[1].str() + " " + by_name(m[2]) + m.suffix().str();
+  if (first.empty() && !sc.petsc.empty()) { // a message naming an option or value of the scene's petsc: string ("Input string abc has no numeric value")
+    std::istringstream words(sc.petsc);
+    for (std::string w; words >> w;)
+      if (w.size() > 1 && msg.find(w) != std::string::npos) {
+        first = sc.petsc_where;
+        msg += " (the scene's petsc: \"" + sc.petsc + "\")";
+        break;
+      }
+  }
   return (first.empty() ? sc.file : first) + ": " + msg;
 }
 
@@ -142,11 +158,14 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
     PetscFunctionReturn(0);
   }
   // the scene's options first, then the command line again: the command line wins
+  PetscErrorCode ierr         = 0;
+  bool           petsc_failed = false;
   if (!sc.petsc.empty()) {
     std::string cl;
     for (int i = first; i < argc; ++i) cl += std::string(" ") + argv[i];
-    PetscCall(PetscOptionsInsertString(nullptr, sc.petsc.c_str()));
-    PetscCall(PetscOptionsInsertString(nullptr, cl.c_str()));
+    ierr = PetscOptionsInsertString(nullptr, sc.petsc.c_str());
+    if (ierr) petsc_failed = true;
+    else ierr = PetscOptionsInsertString(nullptr, cl.c_str());
   }
   RunOptions o;
   o.check_only = mode && !std::strcmp(mode, "check") ? PETSC_TRUE : PETSC_FALSE;
@@ -160,13 +179,14 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
     report.insert(report.end(), advice.begin(), advice.end());
   }
   for (const auto &line : report) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n", line.c_str()));
-  PetscCall(RunOptionsFromCommandLine(PETSC_COMM_WORLD, o));
-  const PetscErrorCode ierr = RunScene(PETSC_COMM_WORLD, sc, std::move(meshes), o);
+  if (!ierr) ierr = RunOptionsFromCommandLine(PETSC_COMM_WORLD, o); // (its errors, as the run's, are named after the scene)
+  if (!ierr) ierr = RunScene(PETSC_COMM_WORLD, sc, std::move(meshes), o);
   if (ierr) {
     const char *text;
     char       *specific = nullptr;
     PetscErrorMessage(ierr, &text, &specific);
-    const std::string msg = NameBodies(sc, specific && specific[0] ? specific : (text ? text : "unknown error"));
+    const std::string what = specific && specific[0] ? specific : (text ? text : "unknown error");
+    const std::string msg  = petsc_failed ? sc.petsc_where + ": petsc: \"" + sc.petsc + "\": " + what : NameBodies(sc, what);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s\n", msg.c_str()));
     *status = 1;
   }

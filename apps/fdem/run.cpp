@@ -424,12 +424,13 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, dt_from,
                         wmax > 0 ? st.kcrit / wmax : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, wj, st.limit.c_str(), (double)end));
   const double steps_to_end = std::ceil(end / dt * (1 - 1e-12));
-  PetscCheck(steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.file.c_str(), (double)end, (double)dt, steps_to_end,
-             (int)(PETSC_MAX_INT / 2));
-  PetscInt  nsteps = std::max<PetscInt>(1, (PetscInt)steps_to_end), max_steps;
-  PetscBool max_steps_set;
+  PetscInt     max_steps;
+  PetscBool    max_steps_set;
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-ts_max_steps", &max_steps, &max_steps_set)); // the command line wins: the run stops at that step
-  if (max_steps_set && max_steps >= 0) nsteps = std::min(nsteps, std::max<PetscInt>(max_steps, 1));
+  const bool capped = max_steps_set && max_steps >= 0 && (double)max_steps < steps_to_end; // (then the steps to the end need not be counted)
+  PetscCheck(capped || steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s (%s) takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.time_where.c_str(), (double)end, (double)dt,
+             dt_from, steps_to_end, (int)(PETSC_MAX_INT / 2));
+  const PetscInt nsteps = capped ? std::max<PetscInt>(max_steps, 1) : std::max<PetscInt>(1, (PetscInt)steps_to_end);
   // the steps in an output interval (at least one, at most the run: an interval beyond the end
   // means "at the end", and the count never leaves the range of PetscInt)
   auto steps_in = [&](double interval) { return (PetscInt)std::clamp(std::round(interval / dt), 1.0, (double)nsteps); };

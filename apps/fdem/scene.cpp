@@ -562,7 +562,10 @@ Scene ReadScene(const std::string &file, const char *text) {
       if (sc.checkpoint_keep < 1) r.Fail(c["keep"], "checkpoint.keep: must be at least 1, got " + c["keep"].Scalar());
     }
   }
-  if (root["petsc"]) sc.petsc = r.String(root["petsc"], "petsc");
+  if (root["petsc"]) {
+    sc.petsc       = r.String(root["petsc"], "petsc");
+    sc.petsc_where = r.At(root["petsc"]);
+  }
   if (sc.contact.present && sc.bodies.size() + sc.packs.size() < 2) r.Fail(sc.contact.where, "contact: the scene has a single body; nothing can touch (remove contact:)");
   return sc;
 }

@@ -142,6 +142,7 @@ struct Scene {
   double                checkpoint_every = -1; // < 0: no checkpoints
   long                  checkpoint_keep  = 2;
   std::string           petsc;
+  Where                 petsc_where; // of the petsc: key (an option of it may be what fails)
 
   const Material *FindMaterial(const std::string &name) const;
   const Body     *FindBody(const std::string &name) const;

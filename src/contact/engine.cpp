@@ -328,6 +328,25 @@ PetscErrorCode Engine::Search() {
     prim_[i].margin = std::max(margin[i], (double)half);
     PrimBox(prim_[i], x_[i], prim_[i].margin, &boxes[6 * (size_t)i]);
   }
+  { // a primitive out of the range of doubles (a position, velocity or size overflowed): name its body, not a box of the search
+    int bad = -1;
+    for (int i = 0; i < nl && bad < 0; ++i)
+      for (int k = 0; k < 3 && bad < 0; ++k)
+        if (!std::isfinite(boxes[6 * (size_t)i + 3 + k] - boxes[6 * (size_t)i + k])) bad = i; // (corners finite and their distance too)
+    int mine = bad < 0 ? size_ : rank_, first;
+    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm_));
+    if (first < size_) {
+      char msg[512] = "";
+      if (rank_ == first) {
+        const Primitive &p = prim_[bad];
+        const double    *b = &boxes[6 * (size_t)bad];
+        PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s (%s) left the range of numbers: its box is [%g, %g, %g] to [%g, %g, %g] at the contact search; a position, velocity, size or load of the scene is too large (or the step made it so)", adapters_[p.kind]->BodyName(p).c_str(),
+                                adapters_[p.kind]->ElementName(p).c_str(), b[0], b[1], b[2], b[3], b[4], b[5]));
+      }
+      PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, first, comm_));
+      SETERRQ(comm_, PETSC_ERR_USER_INPUT, "%s: %s", who_.c_str(), msg);
+    }
+  }
   if (periodic_) { // a pair must not meet both directly and through an image, and one period of shift must reach every image
     std::string bad;
     for (int i = 0; i < nl && bad.empty(); ++i)

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "fdem/kernels/error.hpp"
@@ -43,6 +44,12 @@ void SpherePairLoop::AddForces(const SphereArrays &s, double dt, double *f, doub
     for (int i = 0; i < s.n; ++i) {
       if (!(s.radius[i] > 0) || !(s.mass[i] > 0))
         throw InputError("sphere " + std::to_string(s.id[i]) + ": radius and mass must be > 0");
+      if (!(std::isfinite(4 * s.radius[i]) && std::isfinite(s.mass[i]) && std::isfinite(s.x[3 * i]) && std::isfinite(s.x[3 * i + 1]) && std::isfinite(s.x[3 * i + 2]))) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg, ": radius %g, mass %g, position %g %g %g: out of the range of numbers (a size, density, position or velocity too large, or a step made it so)", s.radius[i],
+                      s.mass[i], s.x[3 * i], s.x[3 * i + 1], s.x[3 * i + 2]);
+        throw InputError("sphere " + std::to_string(s.id[i]) + msg);
+      }
       if (s.material[i] < 0 || s.material[i] >= nmat_)
         throw InputError("sphere " + std::to_string(s.id[i]) + ": material index " + std::to_string(s.material[i]) +
                          " is not in the pair table (" + std::to_string(nmat_) + " materials)");

@@ -446,6 +446,8 @@ PetscErrorCode FDEMRigidAddSphere(FDEMRigid rb, const char *name, PetscReal radi
   PetscCheck(material >= 0 && material < (PetscInt)rb->gmats.size(), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): no granular material %" PetscInt_FMT " (%zu added)", nm, rb->next_id, material, rb->gmats.size());
   for (int k = 0; k < 3; ++k) PetscCheck(std::isfinite(x[k]), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): the position is not finite", nm, rb->next_id);
   const PetscReal m = 4.0 / 3.0 * PETSC_PI * radius * radius * radius * density, I = 0.4 * m * radius * radius;
+  PetscCheck(std::isfinite(m) && std::isfinite(I) && I > 0, rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "Sphere %s (id %" PetscInt_FMT "): radius %g and density %g give the mass %g and moment of inertia %g, out of the range of numbers", nm, rb->next_id, (double)radius,
+             (double)density, (double)m, (double)I);
   PetscCall(AddLocal(rb, fdem::model::kSphereSkin, m, Vec3(I, I, I), x, Mat3::identity(), v ? v : zero, omega ? omega : zero, radius, &myid));
   PetscCall(FDEMRigidSetBodyMaterial(rb, myid, material));
   rb->nspheres++;
