@@ -568,7 +568,7 @@ PetscErrorCode Engine::Search() {
         if (Before(B, A)) std::swap(a, b); // a: the smaller (kind, key), first in the force call
         if (a >= nl && b >= nl) continue;   // two ghosts: their owners compute it
         if ((a >= nl || b >= nl) && (FirstComputes(P(a), P(b)) != (a < nl))) continue; // the other rank computes it
-        if (keep) kept_.push_back({a, b, idle && itself == 0 ? 3 : itself}); // 3: two bodies, idle
+        if (keep) kept_.push_back({a, b, itself});
         if (itself == 2 || idle) continue;
         if (spheres == 0) pairs_.push_back({a, b});
         else if (spheres == 2) ss_.push_back(HolderIsFirst(P(a), P(b)) ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a}); // the holder first
@@ -670,7 +670,7 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
     const std::int8_t  s   = was ? sep_[j] : 0;
     if (was) ++j;
     if (P(c[0]).idle || P(c[1]).idle) continue;
-    if ((c[2] == 1 || c[2] == 2) && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
+    if (c[2] != 0 && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
     pairs.push_back({c[0], c[1]});
     sep.push_back(s);
     fresh_.push_back(was ? 0 : 1);

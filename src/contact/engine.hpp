@@ -362,7 +362,7 @@ private:
   std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it
   bool                            fresh_valid_ = false; // fresh_ is this evaluation's (else old_pairs_ is sorted and searched)
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
-  std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 0 between two bodies, 1 within a body, 2 within a body and not paired by its adapter at the search, 3 between two bodies, one of them idle at the search
+  std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 0 between two bodies, 1 within a body, 2 within a body and not paired by its adapter at the search (a pair with an idle primitive is kept too, and paired once neither is idle)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two
   // spheres as numbers in the compact arrays below (a the holder), the slot of the pair's spring
