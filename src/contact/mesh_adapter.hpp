@@ -57,6 +57,7 @@ public:
   const std::vector<PetscReal> &BodyForce() const { return body_force_; }
   PetscInt                      NumBodies() const { return nbodies_; }
   PetscInt                      NumCells() const { return (PetscInt)conn_.size(); }
+  FDEMDeformable                Mesh() const { return d_; }
   // The granular material of each body (-1: none), for contacts with spheres.
   void                          SetGranularMaterials(std::vector<std::int32_t> m) {
     gmat_ = std::move(m);

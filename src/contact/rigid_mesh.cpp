@@ -7,12 +7,18 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   MeshAdapter *m;
   PetscFunctionBegin;
   PetscCall(RegisterEvents());
-  PetscCall(MeshAdapter::Create(d, MeshAdapter::Cells::BoundaryVertex, MeshAdapter::Pairs::OtherKindsOnly, rb->nspheres > 0 ? MeshAdapter::Spheres::Weighted : MeshAdapter::Spheres::None, &m));
-  m->RequireVelocities(false); // diagnostics evaluate without velocities: taken as zero
-  PetscInt nc = m->NumCells();
-  PetscCallMPI(MPI_Allreduce(&nc, &cells_, 1, MPIU_INT, MPI_SUM, engine.Comm()));
   const bool first = !mesh_;
-  mesh_.reset(m);
+  // Again for the same mesh (a new TS after the rigid bodies migrated): its adapter is kept, as
+  // the mesh's cells do not move between ranks; it lists what a new one would (its selection
+  // follows the joints at every evaluation), and the engine lists and searches afresh below.
+  // (The collective test: the same answer on every rank.)
+  if (first || mesh_->Mesh() != d) {
+    PetscCall(MeshAdapter::Create(d, MeshAdapter::Cells::BoundaryVertex, MeshAdapter::Pairs::OtherKindsOnly, rb->nspheres > 0 ? MeshAdapter::Spheres::Weighted : MeshAdapter::Spheres::None, &m));
+    m->RequireVelocities(false); // diagnostics evaluate without velocities: taken as zero
+    PetscInt nc = m->NumCells();
+    PetscCallMPI(MPI_Allreduce(&nc, &cells_, 1, MPIU_INT, MPI_SUM, engine.Comm()));
+    mesh_.reset(m);
+  } else m = mesh_.get();
   rigid_ = std::make_unique<RigidAdapter>(rb);
   rigid_->RecordWork(true, true); // the partition counts the bodies' pairs with the mesh too
   { // each mesh body's granular material: the rigid model's material of the same name (the driver adds every material)
