@@ -164,9 +164,16 @@ SplitMesh JointSplitter::Split(const std::vector<char> &split_tet) const {
   // joints: faces held by exactly two tetrahedra of one fracturable body, one of them split
   // at least (triangle a on a split one, so that a joint's side a has nodes of its own)
   const std::vector<TetFace> &faces = faces_;
+  s.boundary.assign(nt, 0);
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    // the split mesh's boundary: a split tetrahedron's faces are its own; the unsplit holders
+    // of a face keep its nodes, so they share it unless one of them holds it alone
+    std::size_t unsplit = 0;
+    for (std::size_t k = i; k < j; ++k) unsplit += s.split[faces[k].tet] ? 0 : 1;
+    for (std::size_t k = i; k < j; ++k)
+      if (s.split[faces[k].tet] || unsplit == 1) s.boundary[faces[k].tet] |= static_cast<char>(1 << faces[k].local);
     if (j - i == 2 && fracturable(faces[i].tet) && mesh.body[faces[i].tet] == mesh.body[faces[i + 1].tet] && (split(faces[i].tet) || split(faces[i + 1].tet))) {
       const bool     swap = !split(faces[i].tet);
       const TetFace &A = faces[i + (swap ? 1 : 0)], &B = faces[i + (swap ? 0 : 1)];

@@ -162,16 +162,23 @@ PetscErrorCode fdem::model::deformable::SavedSplitDiffers(FDEMDeformable d, cons
 // edge (triangle a may be on the other side now).
 static void Origins(FDEMDeformable d, const std::vector<PetscInt> &old) {
   if (d->origin_nodes >= 0 && d->origin_of == old) return;
-  const fdem::kernels::SplitMesh a = SplitWith(d, old), b = SplitWith(d, d->inserted);
-  d->node_origin.assign(b.mesh.nodes.size(), -1);
-  for (std::size_t t = 0; t < b.mesh.tets.size(); ++t)
-    for (int k = 0; k < 4; ++k) d->node_origin[b.mesh.tets[t][k]] = a.mesh.tets[t][k];
-  auto key = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j) {
+  // the two splits: those the models kept, or made again
+  const auto record = [&](const std::vector<PetscInt> &cells) {
+    const fdem::kernels::SplitMesh s = SplitWith(d, cells);
+    return std::make_shared<const SplitRecord>(SplitRecord{cells, s.mesh.tets, s.parent, s.joints});
+  };
+  const auto pa = d->origin_split && d->origin_split->inserted == old ? d->origin_split : record(old);
+  const auto pb = d->own_split && d->own_split->inserted == d->inserted ? d->own_split : record(d->inserted);
+  const SplitRecord &a = *pa, &b = *pb;
+  d->node_origin.assign(b.parent.size(), -1);
+  for (std::size_t t = 0; t < b.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) d->node_origin[b.tets[t][k]] = a.tets[t][k];
+  auto key = [](const SplitRecord &s, const fdem::kernels::JointFace &j) {
     std::array<int, 3> k = {s.parent[j.a[0]], s.parent[j.a[1]], s.parent[j.a[2]]};
     std::sort(k.begin(), k.end());
     return k;
   };
-  auto edge = [](const fdem::kernels::SplitMesh &s, const fdem::kernels::JointFace &j, int q) {
+  auto edge = [](const SplitRecord &s, const fdem::kernels::JointFace &j, int q) {
     const int u = s.parent[j.a[q]], w = s.parent[j.a[(q + 1) % 3]];
     return std::make_pair(std::min(u, w), std::max(u, w));
   };
@@ -187,8 +194,9 @@ static void Origins(FDEMDeformable d, const std::vector<PetscInt> &old) {
         if (edge(a, a.joints[i], r) == edge(b, b.joints[j], q)) d->joint_origin[j].point[q] = r;
   }
   d->origin_of     = old;
-  d->origin_nodes  = (PetscInt)a.mesh.nodes.size();
+  d->origin_nodes  = (PetscInt)a.parent.size();
   d->origin_joints = (PetscInt)a.joints.size();
+  d->origin_split.reset(); // (the maps are made)
 }
 
 void fdem::model::deformable::NodeOrigins(FDEMDeformable d, const std::vector<PetscInt> &old, std::vector<PetscInt> &from, PetscInt *nold) {
@@ -337,6 +345,7 @@ static PetscErrorCode CheckContinues(FDEMDeformable to, FDEMDeformable from, con
 PetscErrorCode FDEMDeformableContinueNodeVector(FDEMDeformable to, FDEMDeformable from, Vec from_natural, Vec to_natural) {
   PetscFunctionBegin;
   PetscCall(CheckContinues(to, from, "FDEMDeformableContinueNodeVector"));
+  if (to->rank == 0) to->origin_split = from->own_split;
   PetscCall(NodeVectorFrom(to, SavedState{nullptr, from}, from_natural, to_natural));
   PetscFunctionReturn(0);
 }
@@ -344,6 +353,7 @@ PetscErrorCode FDEMDeformableContinueNodeVector(FDEMDeformable to, FDEMDeformabl
 PetscErrorCode FDEMDeformableContinueJointState(FDEMDeformable to, FDEMDeformable from) {
   PetscFunctionBegin;
   PetscCall(CheckContinues(to, from, "FDEMDeformableContinueJointState"));
+  if (to->rank == 0) to->origin_split = from->own_split;
   PetscCall(LoadJointState(to, SavedState{nullptr, from}));
   PetscFunctionReturn(0);
 }
@@ -381,11 +391,15 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
       const auto &m = d->fracture.at(d->materials[d->material_of_body[b]].name);
       strength[b]   = fdem::model::Strength(m.tensile_strength, m.cohesion, m.friction_angle);
     }
+  if (d->cell_inserted.size() != d->ed.size()) { // (the inserted cells do not change in a model)
+    d->cell_inserted.assign(d->ed.size(), 0);
+    for (std::size_t e = 0; e < d->ed.size(); ++e) d->cell_inserted[e] = std::binary_search(d->inserted.begin(), d->inserted.end(), d->cell_gid[e]);
+  }
   for (std::size_t e = 0; e < d->ed.size(); ++e) {
     const int       b = d->ed.body[e];
     const PetscReal r = d->body_insertion[b];
     double          T[6];
-    if (r <= 0 || std::binary_search(d->inserted.begin(), d->inserted.end(), d->cell_gid[e])) continue;
+    if (r <= 0 || d->cell_inserted[e]) continue;
     if (!fdem::kernels::CellStress(d->ed, e, xl, vl, T)) std::fill(T, T + 6, NAN); // (inverted: NaN, as the stress output has it)
     if (fdem::model::SurelyBelow(T, strength[b], r)) continue;
     if (fdem::model::StrengthRatio(T, strength[b]) >= r) mine.push_back(d->cell_gid[e]);

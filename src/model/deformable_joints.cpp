@@ -65,6 +65,7 @@ static double JointFrequency(FDEMDeformable d, const std::vector<int> &mob, cons
 void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vector<int> &mob) {
   d->split_parent.clear();
   d->split_tet.clear();
+  d->split_boundary.clear();
   d->joints_input.clear();
   d->laws_input.clear();
   if (d->fracture.empty()) return;
@@ -183,9 +184,18 @@ void fdem::model::deformable::SplitFracturable(FDEMDeformable d, const std::vect
     }
     d->joint_omega = made->joint_omega = JointFrequency(d, mob, full);
   }
+  if (!d->insertion.empty()) {
+    auto r      = std::make_shared<fdem::model::deformable::SplitRecord>();
+    r->inserted = d->inserted;
+    r->tets     = s.mesh.tets;
+    r->parent   = s.parent;
+    r->joints   = s.joints;
+    d->own_split = std::move(r);
+  }
   d->mesh         = std::move(s.mesh);
   d->split_parent = std::move(s.parent);
   d->split_tet    = std::move(s.split);
+  d->split_boundary = std::move(s.boundary);
   d->joints_input = std::move(s.joints);
 }
 
@@ -566,24 +576,39 @@ static void StartJointAt(FDEMDeformable d, std::size_t j, const double xa[3][3],
 // first evaluation there (the shear's secant), and the energy it then stores is where its
 // stored energy is counted from, so that the scene's total does not jump. Collective.
 static PetscErrorCode PrestressNewJoints(FDEMDeformable d, const PetscScalar *xl) {
-  PetscSF sf;
+  PetscSF      sf;
+  MPI_Datatype six;
   PetscFunctionBegin;
   d->prestress_pending = false;
-  const std::size_t     nj = d->jnode_a.size(), nc = d->ed.size();
-  std::vector<PetscReal> S(6 * nc), Sb(6 * nj, 0.0);
+  const std::size_t nj = d->jnode_a.size(), nc = d->ed.size();
+  // the stresses of the fresh joints' two tetrahedra only: tetrahedron b (on any rank) over an
+  // SF with a leaf per fresh joint, which first tells each rank which of its cells are asked for
+  std::vector<PetscSFNode> remote;
+  std::vector<PetscInt>    leaf;
+  for (std::size_t j = 0; j < nj; ++j)
+    if (d->jfresh[j]) {
+      remote.push_back({d->jtet_b[j][1], d->jtet_b[j][2]});
+      leaf.push_back((PetscInt)j);
+    }
+  PetscCall(PetscSFCreate(d->comm, &sf));
+  PetscCall(PetscSFSetGraph(sf, (PetscInt)nc, (PetscInt)leaf.size(), leaf.data(), PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
+  std::vector<int> asked(nc, 0), ask(nj, 1);
+  PetscCall(PetscSFReduceBegin(sf, MPI_INT, ask.data(), asked.data(), MPI_MAX));
+  PetscCall(PetscSFReduceEnd(sf, MPI_INT, ask.data(), asked.data(), MPI_MAX));
+  for (PetscInt j : leaf) asked[d->jcell_a[j]] = 1;
+  std::vector<PetscReal> S(6 * nc, 0.0), Sb(6 * nj, 0.0);
   for (std::size_t e = 0; e < nc; ++e) {
+    if (!asked[e]) continue;
     fdem::kernels::TetState st;
     const bool              ok   = fdem::kernels::EvaluateTet(d->ed, e, xl, nullptr, st);
     const double            T[6] = {st.T(0, 0), st.T(1, 1), st.T(2, 2), st.T(0, 1), st.T(1, 2), st.T(0, 2)};
     for (int k = 0; k < 6; ++k) S[6 * e + k] = ok ? T[k] : NAN;
   }
-  std::vector<PetscSFNode> remote(6 * nj);
-  for (std::size_t j = 0; j < nj; ++j)
-    for (int k = 0; k < 6; ++k) remote[6 * j + k] = {d->jtet_b[j][1], 6 * d->jtet_b[j][2] + k};
-  PetscCall(PetscSFCreate(d->comm, &sf));
-  PetscCall(PetscSFSetGraph(sf, 6 * (PetscInt)nc, 6 * (PetscInt)nj, nullptr, PETSC_COPY_VALUES, remote.data(), PETSC_COPY_VALUES));
-  PetscCall(PetscSFBcastBegin(sf, MPIU_REAL, S.data(), Sb.data(), MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(sf, MPIU_REAL, S.data(), Sb.data(), MPI_REPLACE));
+  PetscCallMPI(MPI_Type_contiguous(6, MPIU_REAL, &six));
+  PetscCallMPI(MPI_Type_commit(&six));
+  PetscCall(PetscSFBcastBegin(sf, six, S.data(), Sb.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, six, S.data(), Sb.data(), MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&six));
   PetscCall(PetscSFDestroy(&sf));
   if (d->jofs.size() != nj) d->jofs.assign(nj, {});
   d->jequil.assign(nj, 0);

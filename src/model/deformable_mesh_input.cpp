@@ -75,6 +75,9 @@ void fdem::model::deformable::ValidateInput(FDEMDeformable d, std::vector<int> &
     for (const auto &bn : M.body_names) found = found || bn == kv.first;
     if (!found) throw InputError("FDEMDeformableSetBodyMaterial names body '" + kv.first + "', which is not in the mesh");
   }
+  // the mesh's own checks; a model built again with more joints inserted (FDEMDeformableReuseSetUp)
+  // has the mesh its predecessor checked
+  if (d->reuse && SameMesh(d->reuse->mesh, M)) return;
   const int nn = (int)M.nodes.size();
   for (int i = 0; i < nn; ++i)
     if (!(std::isfinite(M.nodes[i].x) && std::isfinite(M.nodes[i].y) && std::isfinite(M.nodes[i].z))) {

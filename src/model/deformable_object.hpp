@@ -47,6 +47,17 @@ struct OutputRecord {
   PetscInt  nvert, ncell;
 };
 
+// What the mapping from one split to another (Origins in deformable_insertion.cpp) reads of a
+// split with some tetrahedra inserted: each tetrahedron's nodes, each node's input node (their
+// count is the split's), the joints. A model with insertion keeps its own (rank 0), so that the
+// model built after it with more joints needs to split neither again.
+struct SplitRecord {
+  std::vector<PetscInt>                 inserted; // the inserted tetrahedra (sorted)
+  std::vector<std::array<int, 4>>       tets;
+  std::vector<int>                      parent;
+  std::vector<fdem::kernels::JointFace> joints;
+};
+
 // A joint of a larger split (joints inserted during a run): the joint of a smaller split it
 // comes from, and the point of that joint on the same edge as each of its points.
 struct JointOrigin {
@@ -76,12 +87,13 @@ struct InsertionInput {
   std::unique_ptr<fdem::kernels::JointSplitter> splitter;    // its splits (the faces sorted once), of `mesh` here
   double                                        joint_omega = 0; // the joints' largest frequency with every tetrahedron that may split split
 };
-// Whether r was made from this key and mesh (the same bodies, tetrahedra and node positions).
-inline bool SameInput(const InsertionInput &r, const std::vector<double> &key, const fdem::kernels::TetMesh &mesh) {
-  const auto &M = r.mesh;
-  return r.key == key && M.tets == mesh.tets && M.body == mesh.body && M.nodes.size() == mesh.nodes.size() &&
+// Whether two meshes have the same bodies, tetrahedra and node positions.
+inline bool SameMesh(const fdem::kernels::TetMesh &M, const fdem::kernels::TetMesh &mesh) {
+  return M.tets == mesh.tets && M.body == mesh.body && M.nodes.size() == mesh.nodes.size() &&
          std::equal(M.nodes.begin(), M.nodes.end(), mesh.nodes.begin(), [](const fdem::kernels::Vec3 &a, const fdem::kernels::Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; });
 }
+// Whether r was made from this key and mesh.
+inline bool SameInput(const InsertionInput &r, const std::vector<double> &key, const fdem::kernels::TetMesh &mesh) { return r.key == key && SameMesh(r.mesh, mesh); }
 } // namespace fdem::model::deformable
 
 struct _n_FDEMDeformable {
@@ -125,6 +137,7 @@ struct _n_FDEMDeformable {
   std::map<std::string, PetscReal>        insertion;      // by body name: the stress ratio at which its tetrahedra get joints
   std::vector<PetscInt>                   inserted;       // sorted input tetrahedra split by insertion (all ranks)
   std::vector<PetscReal>                  body_insertion; // per body: its ratio, 0 without insertion (all ranks, after set-up)
+  std::vector<char>                       cell_inserted;  // per local cell: 1 when it is in `inserted` (FDEMDeformableFindCellsToSplit)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> insertion_input; // rank 0, with insertion (FDEMDeformableReuseSetUp shares it between the models of one run)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> reuse;           // rank 0: the one FDEMDeformableReuseSetUp gave, for SetUp
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
@@ -133,8 +146,11 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   node_origin;    // rank 0: per node, its node in that split (NodeOrigins)
   std::vector<fdem::model::deformable::JointOrigin> joint_origin; // rank 0: per joint, its joint there (JointOrigins)
   PetscInt                                origin_nodes = -1, origin_joints = -1; // that split's counts (-1: not made)
+  std::shared_ptr<const fdem::model::deformable::SplitRecord> own_split;   // rank 0, with insertion: this model's split
+  std::shared_ptr<const fdem::model::deformable::SplitRecord> origin_split; // rank 0: the split of a model continued from (FDEMDeformableContinue*), if Origins maps from it
   std::vector<int>                        split_parent;   // rank 0, set-up: input node of each split node (partition)
   std::vector<char>                       split_tet;      // rank 0, set-up: 1 for a tetrahedron with nodes of its own (partition weights)
+  std::vector<char>                       split_boundary; // rank 0, set-up: per tetrahedron, the split mesh's boundary faces (SplitMesh::boundary), for boundary_faces
   std::vector<fdem::kernels::JointFace>   joints_input;   // rank 0, set-up: every joint, split node / tet ids
   std::vector<fdem::kernels::JointLaw>    laws_input;     // rank 0, set-up: the law of each joint
   std::vector<PetscInt>                   owned_input;    // the input node of each owned node (FixNodes/MoveNodes/field ids; owned_gid unless split)

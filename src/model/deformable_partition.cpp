@@ -81,7 +81,32 @@ PetscErrorCode BroadcastStrings(MPI_Comm comm, PetscMPIInt rank, std::vector<std
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, const std::vector<PetscInt> &cellbody, PetscInt nc_orig) {
+// The boundary faces of a cell as bits in the order of its nodes' ids: bit r for the face
+// opposite the node whose id is the r-th smallest of the four (a form that does not depend on
+// the order in which DMPlex hands a cell's nodes back).
+PetscInt BoundaryByNodeIds(const std::array<PetscInt, 4> &ids, char bits) {
+  PetscInt code = 0;
+  for (int k = 0; k < 4; ++k)
+    if (bits & (1 << k)) {
+      int r = 0;
+      for (int q = 0; q < 4; ++q) r += ids[q] < ids[k] ? 1 : 0;
+      code |= (PetscInt)1 << r;
+    }
+  return code;
+}
+char BoundaryFromNodeIds(const std::array<PetscInt, 4> &ids, PetscInt code) {
+  char bits = 0;
+  for (int k = 0; k < 4; ++k) {
+    int r = 0;
+    for (int q = 0; q < 4; ++q) r += ids[q] < ids[k] ? 1 : 0;
+    if (code & ((PetscInt)1 << r)) bits |= (char)(1 << k);
+  }
+  return bits;
+}
+
+// cellsurf: per point of the chart (cells), BoundaryByNodeIds of the cell's boundary faces in the
+// split mesh, or empty when the set-up did not split (contact::BoundaryFaces finds them then)
+PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, const std::vector<PetscInt> &cellbody, const std::vector<PetscInt> &cellsurf, PetscInt nc_orig) {
   DM           dm = d->dm;
   PetscInt     pStart, pEnd, cStart, cEnd, vStart, vEnd, rstart;
   PetscSection s, gs, cs;
@@ -216,6 +241,12 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
     tmat[i]        = d->material_of_body[tbody[i]];
     d->cell_gid[i] = orig[c];
   }
+  d->boundary_made = !cellsurf.empty();
+  d->boundary_faces.assign(d->boundary_made ? nc : 0, 0);
+  for (PetscInt i = 0; d->boundary_made && i < nc; ++i) {
+    const auto &T = tets[i];
+    d->boundary_faces[i] = BoundaryFromNodeIds({d->node_gid[T[0]], d->node_gid[T[1]], d->node_gid[T[2]], d->node_gid[T[3]]}, cellsurf[cStart + order[i]]);
+  }
   PetscCall(fdem::Guard(d->comm, [&]() -> PetscErrorCode {
     d->ed = fdem::kernels::BuildElementData(Xl, tets, d->materials, tmat, tbody);
     return 0;
@@ -318,7 +349,10 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   coords.clear();
   coords.shrink_to_fit();
   // root data over the serial chart: original point number and body of each cell
-  std::vector<PetscInt> orig, cellbody;
+  // and, when the set-up split the mesh, its boundary faces (which the split found for nothing)
+  std::vector<PetscInt> orig, cellbody, cellsurf;
+  PetscInt              have_surf = d->rank == 0 && !d->split_boundary.empty();
+  PetscCallMPI(MPI_Bcast(&have_surf, 1, MPIU_INT, 0, d->comm));
   {
     PetscInt pStart, pEnd;
     PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
@@ -326,6 +360,13 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
     cellbody.assign(pEnd - pStart, 0);
     std::iota(orig.begin(), orig.end(), 0);
     for (PetscInt e = 0; e < nc; ++e) cellbody[e] = d->mesh.body[e];
+    if (have_surf) {
+      cellsurf.assign(pEnd - pStart, 0);
+      for (PetscInt e = 0; e < nc; ++e) {
+        const auto &T = d->mesh.tets[e];
+        cellsurf[e]   = BoundaryByNodeIds({T[0], T[1], T[2], T[3]}, d->split_boundary[e]);
+      }
+    }
   }
   if (d->size > 1) {
     PetscPartitioner      partr;
@@ -353,6 +394,12 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
       PetscCall(PetscSFBcastEnd(sf, MPIU_INT, cellbody.data(), lb.data(), MPI_REPLACE));
       orig.swap(lo);
       cellbody.swap(lb);
+      if (have_surf) {
+        std::vector<PetscInt> ls(pEnd - pStart, 0);
+        PetscCall(PetscSFBcastBegin(sf, MPIU_INT, cellsurf.data(), ls.data(), MPI_REPLACE));
+        PetscCall(PetscSFBcastEnd(sf, MPIU_INT, cellsurf.data(), ls.data(), MPI_REPLACE));
+        cellsurf.swap(ls);
+      }
       PetscCall(DMDestroy(&dm));
       dm = dmd;
     }
@@ -361,10 +408,11 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   d->dm = dm;
   if (d->rank == 0) d->mesh = fdem::kernels::TetMesh(); // the distributed DM holds it now
   d->has_mesh = false;
-  PetscCall(BuildLocal(d, orig, cellbody, dims[0]));
+  PetscCall(BuildLocal(d, orig, cellbody, cellsurf, dims[0]));
   PetscCall(SetUpJoints(d));
   d->split_parent.clear();
   d->split_tet.clear();
+  d->split_boundary.clear();
   d->setup = true;
   if (d->view) {
     PetscReal w = 0;

@@ -24,6 +24,9 @@ struct SplitMesh {
   std::vector<int> parent;      // per split node: the node of the input mesh it was copied from
   std::vector<JointFace> joints; // in the order of the sorted face keys (deterministic)
   std::vector<char> split;      // per tetrahedron: 1 when it got nodes of its own
+  std::vector<char> boundary;   // per tetrahedron, bit k: its face k (opposite node k) belongs to no
+                                // other tetrahedron of the split mesh (the input's boundary faces,
+                                // and both sides of every face where a tetrahedron was split)
 };
 
 // Splits the tetrahedra of the bodies with split_body[b] != 0 (one entry per
