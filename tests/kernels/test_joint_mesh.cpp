@@ -148,6 +148,33 @@ TEST(JointMesh, ZoneSplitsOnlyFlaggedTetrahedra) {
   EXPECT_THROW(SplitForJoints(m, {1, 0}, std::vector<char>(nt - 1, 1)), InputError);
 }
 
+// SplitMesh::boundary, which the model's contact takes for its surface instead of sorting
+// every face of the split mesh again: each bit is a face that no other tetrahedron of the split
+// mesh holds, counted here from the split mesh's own faces (whole split, a zone, nothing split).
+TEST(JointMesh, BoundaryBitsAreTheSplitMeshFacesHeldOnce) {
+  const TetMesh m = TwoBoxes();
+  const int nt = static_cast<int>(m.tets.size());
+  std::vector<char> zone(nt, 0);
+  for (int t = 0; t < nt; ++t) zone[t] = m.body[t] == 0 && Centroid(m, t).x < 1.0 / 3;
+  for (const SplitMesh &s : {SplitForJoints(m, {1, 0}), SplitForJoints(m, {1, 0}, zone), SplitForJoints(m, {0, 0}), SplitForJoints(m, {1, 1})}) {
+    ASSERT_EQ(static_cast<int>(s.boundary.size()), nt);
+    std::vector<char> expect(nt, 0);
+    const std::vector<TetFace> faces = SortedFaces(s.mesh.tets);
+    for (std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i + 1;
+      while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+      if (j - i == 1) expect[faces[i].tet] |= static_cast<char>(1 << faces[i].local);
+      i = j;
+    }
+    int nb = 0;
+    for (int t = 0; t < nt; ++t) {
+      EXPECT_EQ(s.boundary[t], expect[t]) << "tetrahedron " << t;
+      for (int k = 0; k < 4; ++k) nb += expect[t] >> k & 1;
+    }
+    EXPECT_GT(nb, 0);
+  }
+}
+
 TEST(JointMesh, NothingToSplit) {
   const TetMesh m = TwoBoxes();
   const SplitMesh s = SplitForJoints(m, {0, 0});
