@@ -395,14 +395,29 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
     d->cell_inserted.assign(d->ed.size(), 0);
     for (std::size_t e = 0; e < d->ed.size(); ++e) d->cell_inserted[e] = std::binary_search(d->inserted.begin(), d->inserted.end(), d->cell_gid[e]);
   }
-  for (std::size_t e = 0; e < d->ed.size(); ++e) {
-    const int       b = d->ed.body[e];
-    const PetscReal r = d->body_insertion[b];
-    double          T[6];
-    if (r <= 0 || d->cell_inserted[e]) continue;
-    if (!fdem::kernels::CellStress(d->ed, e, xl, vl, T)) std::fill(T, T + 6, NAN); // (inverted: NaN, as the stress output has it)
-    if (fdem::model::SurelyBelow(T, strength[b], r)) continue;
-    if (fdem::model::StrengthRatio(T, strength[b]) >= r) mine.push_back(d->cell_gid[e]);
+  // the stresses of the cells of materials that some insertion body has, run by run (the cells
+  // are sorted by material), with the force kernel's batched loop (inverted: NaN, as the stress
+  // output has it)
+  std::vector<char> mat_inserts(d->materials.size(), 0);
+  for (std::size_t b = 0; b < d->body_insertion.size(); ++b)
+    if (d->body_insertion[b] > 0) mat_inserts[d->material_of_body[b]] = 1;
+  std::vector<double> &S = d->stress_scratch;
+  for (std::size_t e0 = 0; e0 < d->ed.size();) {
+    std::size_t e1 = e0;
+    while (e1 < d->ed.size() && d->ed.elems[e1].material == d->ed.elems[e0].material) ++e1;
+    if (mat_inserts[d->ed.elems[e0].material]) {
+      if (S.size() < 6 * (e1 - e0)) S.resize(6 * (e1 - e0));
+      fdem::kernels::CellStresses(d->ed, xl, vl, S.data(), e0, e1);
+      for (std::size_t e = e0; e < e1; ++e) {
+        const int       b = d->ed.body[e];
+        const PetscReal r = d->body_insertion[b];
+        const double   *T = &S[6 * (e - e0)];
+        if (r <= 0 || d->cell_inserted[e]) continue;
+        if (fdem::model::SurelyBelow(T, strength[b], r)) continue;
+        if (fdem::model::StrengthRatio(T, strength[b]) >= r) mine.push_back(d->cell_gid[e]);
+      }
+    }
+    e0 = e1;
   }
   if (d->viscous) PetscCall(VecRestoreArrayRead(d->vloc, &vl));
   PetscCall(VecRestoreArrayRead(d->xloc, &xl));

@@ -138,6 +138,7 @@ struct _n_FDEMDeformable {
   std::vector<PetscInt>                   inserted;       // sorted input tetrahedra split by insertion (all ranks)
   std::vector<PetscReal>                  body_insertion; // per body: its ratio, 0 without insertion (all ranks, after set-up)
   std::vector<char>                       cell_inserted;  // per local cell: 1 when it is in `inserted` (FDEMDeformableFindCellsToSplit)
+  std::vector<double>                     stress_scratch; // FDEMDeformableFindCellsToSplit's stresses (kept: a search every few steps)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> insertion_input; // rank 0, with insertion (FDEMDeformableReuseSetUp shares it between the models of one run)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> reuse;           // rank 0: the one FDEMDeformableReuseSetUp gave, for SetUp
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)

@@ -401,6 +401,38 @@ TEST(CST, CellStressIsEvaluateTetsStressToTheBit) {
   EXPECT_GT(compared, 100);
 }
 
+// CellStresses (the batched loop storing stresses): CellStress's values element by element, to
+// round-off (the batched loop may fuse multiply-adds), over ranges that start and end inside
+// material runs; NaN where CellStress answers false (inverted elements).
+TEST(CST, CellStressesAreCellStressInBlocks) {
+  ThreeMaterials box = ThreeMaterialBox(11, 0.05);
+  const ElementData &d = box.d;
+  std::vector<double> &x = box.x, &v = box.v;
+  x[3 * 21] += 0.9; // some elements inverted
+  int inverted = 0, compared = 0;
+  for (const double *vel : {static_cast<const double *>(v.data()), static_cast<const double *>(nullptr)})
+    for (const std::array<std::size_t, 2> range : {std::array<std::size_t, 2>{0, d.size()}, std::array<std::size_t, 2>{37, d.size() - 11}}) {
+      std::vector<double> S(6 * (range[1] - range[0]), 7.0);
+      CellStresses(d, x.data(), vel, S.data(), range[0], range[1]);
+      for (std::size_t e = range[0]; e < range[1]; ++e) {
+        double     T[6];
+        const bool ok = CellStress(d, e, x.data(), vel, T);
+        const double *B = &S[6 * (e - range[0])];
+        if (!ok) {
+          ++inverted;
+          for (int k = 0; k < 6; ++k) EXPECT_TRUE(std::isnan(B[k])) << "element " << e;
+          continue;
+        }
+        double scale = 0;
+        for (int k = 0; k < 6; ++k) scale = std::max(scale, std::fabs(T[k]));
+        for (int k = 0; k < 6; ++k) EXPECT_NEAR(B[k], T[k], 1e-13 * scale) << "element " << e << ", component " << k;
+        ++compared;
+      }
+    }
+  EXPECT_GT(inverted, 1);
+  EXPECT_GT(compared, 100);
+}
+
 TEST(CST, InvertedElementReportedById) {
   const TetMesh mesh = JitteredBox(3);
   const ElementData d = BuildElementData(mesh, {Mat()}, {0});

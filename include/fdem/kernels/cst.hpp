@@ -107,6 +107,10 @@ bool EvaluateTet(const ElementData &data, std::size_t e, const double *x, const 
 // Element e's Cauchy stress alone, T = (xx, yy, zz, xy, yz, xz): EvaluateTet's T to the bit (v:
 // the node velocities of a viscous material, or nullptr). False, T untouched, if J <= 0.
 bool CellStress(const ElementData &data, std::size_t e, const double *x, const double *v, double T[6]);
+// The same for elements [begin, end) at once, element i's at T[6 (i - begin)] (NaN where J <= 0),
+// with the internal-force kernel's batched loop (several elements an instruction): the same
+// operations, so the same values but for round-off where that loop fuses multiply-adds.
+void CellStresses(const ElementData &data, const double *x, const double *v, double *T, std::size_t begin, std::size_t end);
 
 // Pointwise Cauchy stress of a material for deformation gradient F and
 // velocity gradient L (for the linear model L is read as Fdot).
@@ -144,6 +148,8 @@ struct MaterialModel {
   CellStressFn cell_stress;
   BatchFn batch;
   BatchFn batch_no_visc;
+  BatchFn batch_stress;         // the batched loop storing stresses (CellStresses), not forces
+  BatchFn batch_stress_no_visc;
 };
 const std::vector<MaterialModel> &MaterialModels();
 int FindMaterialModel(const std::string &name);  // -1 if unknown
