@@ -10,6 +10,7 @@ namespace fdem::contact {
 class RigidAdapter : public Adapter {
 public:
   explicit RigidAdapter(FDEMRigid rb) : rb_(rb) {}
+  FDEMRigid Model() const { return rb_; }
   // A skin's surface faces: per tetrahedron, bit o set when its face opposite vertex o is on the
   // surface (Primitive::surface), and the flat face it belongs to (Primitive::facet; -1 inside).
   struct SkinFaces {

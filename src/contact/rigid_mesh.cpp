@@ -11,7 +11,8 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
   // Again for the same mesh (a new TS after the rigid bodies migrated): its adapter is kept, as
   // the mesh's cells do not move between ranks; it lists what a new one would (its selection
   // follows the joints at every evaluation), and the engine lists and searches afresh below.
-  // (The collective test: the same answer on every rank.)
+  // (The same answer on every rank.) The rigid adapter too: it lists the bodies of this rank
+  // afresh at every listing and keeps its skins' surface faces.
   if (first || mesh_->Mesh() != d) {
     PetscCall(MeshAdapter::Create(d, MeshAdapter::Cells::BoundaryVertex, MeshAdapter::Pairs::OtherKindsOnly, rb->nspheres > 0 ? MeshAdapter::Spheres::Weighted : MeshAdapter::Spheres::None, &m));
     m->RequireVelocities(false); // diagnostics evaluate without velocities: taken as zero
@@ -19,8 +20,10 @@ PetscErrorCode RigidMeshContact::SetUp(FDEMRigid rb, FDEMDeformable d, TS ts) {
     PetscCallMPI(MPI_Allreduce(&nc, &cells_, 1, MPIU_INT, MPI_SUM, engine.Comm()));
     mesh_.reset(m);
   } else m = mesh_.get();
-  rigid_ = std::make_unique<RigidAdapter>(rb);
-  rigid_->RecordWork(true, true); // the partition counts the bodies' pairs with the mesh too
+  if (first || rigid_->Model() != rb) { // (for the same model: it lists the local bodies afresh, as the rigid contact's does)
+    rigid_ = std::make_unique<RigidAdapter>(rb);
+    rigid_->RecordWork(true, true); // the partition counts the bodies' pairs with the mesh too
+  }
   { // each mesh body's granular material: the rigid model's material of the same name (the driver adds every material)
     std::vector<std::int32_t> gm(d->body_names.size(), -1);
     for (size_t b = 0; b < gm.size() && b < d->material_of_body.size(); ++b) {
