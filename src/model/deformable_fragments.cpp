@@ -383,6 +383,31 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     PetscFunctionReturn(0);
   }
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
+  if (d->topology_made && d->topology.nbroken == nbroken) {
+    // Only joints that softened: the broken ones are those of the last answer, and so are the
+    // free faces, the node keys and the fragments; only the damaged cells (bit 5) change,
+    // found as step 1 below finds them.
+    std::vector<unsigned char> damaged(nc, 0);
+    if (d->jfsf) {
+      fdem::model::TopologyCache &tc = *d->topology_cache;
+      std::vector<PetscInt>       fleaf(3 * (std::size_t)nj, kNoFace);
+      for (PetscInt j = 0; j < nj; ++j)
+        if (JointDamaged(d->jstate[j])) {
+          damaged[d->jcell_a[j]] = 1;
+          fleaf[3 * j + 2]       = 1;
+        }
+      for (PetscInt r : tc.glued) tc.froot[r] = tc.froot[r + 1] = tc.froot[r + 2] = kNoFace;
+      PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
+      PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
+      for (PetscInt r : tc.glued)
+        if (tc.froot[r + 2] == 1) damaged[r / 12] = 1;
+    }
+    auto &T    = d->topology;
+    T.ndamaged = ndamaged;
+    for (PetscInt e = 0; e < nc; ++e) T.cell_free[e] = (unsigned char)((T.cell_free[e] & ~0x20) | (damaged[e] ? 0x20 : 0));
+    t = T;
+    PetscFunctionReturn(0);
+  }
   t.fracturable          = FracturableBodies(d);
   const auto     frac    = [&](PetscInt e) { return t.fracturable[d->ed.body[e]] != 0; };
   const auto     node    = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
