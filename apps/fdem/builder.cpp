@@ -12,6 +12,7 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cstring>
 #include <cmath>
 
@@ -480,12 +481,21 @@ namespace {
 // Scatter between a vector in the models' layout (local entries `local`, global index of each in
 // `index`) and the vector by id (`nat`, created here of global size N).
 PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt> &index, PetscInt N, Vec *nat, VecScatter *sc) {
-  IS is;
+  IS       from, to;
+  PetscInt lo;
   PetscFunctionBeginUser;
   PetscCall(VecCreateMPI(comm, PETSC_DECIDE, N, nat));
-  PetscCall(ISCreateGeneral(comm, (PetscInt)index.size(), index.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(VecScatterCreate(local, nullptr, *nat, is, sc));
-  PetscCall(ISDestroy(&is));
+  // the entries in the order of their ids, both sides (PETSc sorts the other side's otherwise)
+  std::vector<PetscInt> order(index.size()), sorted(index.size());
+  PetscCall(VecGetOwnershipRange(local, &lo, nullptr));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) { return index[a] < index[b]; });
+  for (size_t i = 0; i < order.size(); ++i) sorted[i] = index[order[i]], order[i] += lo;
+  PetscCall(ISCreateGeneral(comm, (PetscInt)order.size(), order.data(), PETSC_COPY_VALUES, &from));
+  PetscCall(ISCreateGeneral(comm, (PetscInt)sorted.size(), sorted.data(), PETSC_COPY_VALUES, &to));
+  PetscCall(VecScatterCreate(local, from, *nat, to, sc));
+  PetscCall(ISDestroy(&from));
+  PetscCall(ISDestroy(&to));
   PetscFunctionReturn(0);
 }
 
