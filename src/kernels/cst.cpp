@@ -143,10 +143,10 @@ ElementData BuildElementData(const std::vector<Vec3> &X, const std::vector<std::
   d.materials = materials;
   for (const auto &m : materials) d.coeffs.push_back(MakeCoeffs(m));
   d.body = tet_body.empty() ? std::vector<int>(tets.size(), 0) : tet_body;
-  d.elems.resize(tets.size());
+  d.elems.reserve(tets.size()); // (each record written whole below: no zeroing pass first)
   for (std::size_t t = 0; t < tets.size(); ++t) {
     auto where = [&] { return "body " + std::to_string(d.body[t]) + ", element " + std::to_string(t); };
-    TetElement &el = d.elems[t];
+    TetElement el;
     el.n = tets[t];
     for (int a = 0; a < 4; ++a)
       if (el.n[a] < 0 || el.n[a] >= static_cast<int>(X.size()))
@@ -174,6 +174,7 @@ ElementData BuildElementData(const std::vector<Vec3> &X, const std::vector<std::
       for (int c = 0; c < 3; ++c) el.Xinv[3 * r + c] = Xi(r, c);
     el.V0 = dX / 6.0;
     el.inv6V0 = 1.0 / dX;
+    d.elems.push_back(el);
   }
   return d;
 }
