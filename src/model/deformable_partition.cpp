@@ -349,7 +349,7 @@ PetscErrorCode FDEMDeformableSetUp(FDEMDeformable d) {
   coords.clear();
   coords.shrink_to_fit();
   // root data over the serial chart: original point number and body of each cell
-  // and, when the set-up split the mesh, its boundary faces (which the split found for nothing)
+  // and, when the set-up split the mesh, its boundary faces (the split finds them on the way)
   std::vector<PetscInt> orig, cellbody, cellsurf;
   PetscInt              have_surf = d->rank == 0 && !d->split_boundary.empty();
   PetscCallMPI(MPI_Bcast(&have_surf, 1, MPIU_INT, 0, d->comm));
