@@ -383,25 +383,30 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     PetscFunctionReturn(0);
   }
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
+  // The cells with a damaged joint face (bit 5 of cell_free): tetrahedron a of each damaged joint
+  // here, and tetrahedron b wherever it is, over the joint-face SF (the third value of a face).
+  const auto damaged_cells = [&](std::vector<unsigned char> &damaged) -> PetscErrorCode {
+    damaged.assign(nc, 0);
+    if (!d->jfsf) return 0;
+    fdem::model::TopologyCache &tc = *d->topology_cache;
+    std::vector<PetscInt>       fleaf(3 * (std::size_t)nj, kNoFace);
+    for (PetscInt j = 0; j < nj; ++j)
+      if (JointDamaged(d->jstate[j])) {
+        damaged[d->jcell_a[j]] = 1;
+        fleaf[3 * j + 2]       = 1;
+      }
+    for (PetscInt r : tc.glued) tc.froot[r] = tc.froot[r + 1] = tc.froot[r + 2] = kNoFace;
+    PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
+    PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
+    for (PetscInt r : tc.glued)
+      if (tc.froot[r + 2] == 1) damaged[r / 12] = 1;
+    return 0;
+  };
   if (d->topology_made && d->topology.nbroken == nbroken) {
     // Only joints that softened: the broken ones are those of the last answer, and so are the
-    // free faces, the node keys and the fragments; only the damaged cells (bit 5) change,
-    // found as step 1 below finds them.
-    std::vector<unsigned char> damaged(nc, 0);
-    if (d->jfsf) {
-      fdem::model::TopologyCache &tc = *d->topology_cache;
-      std::vector<PetscInt>       fleaf(3 * (std::size_t)nj, kNoFace);
-      for (PetscInt j = 0; j < nj; ++j)
-        if (JointDamaged(d->jstate[j])) {
-          damaged[d->jcell_a[j]] = 1;
-          fleaf[3 * j + 2]       = 1;
-        }
-      for (PetscInt r : tc.glued) tc.froot[r] = tc.froot[r + 1] = tc.froot[r + 2] = kNoFace;
-      PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
-      PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
-      for (PetscInt r : tc.glued)
-        if (tc.froot[r + 2] == 1) damaged[r / 12] = 1;
-    }
+    // free faces, the node keys and the fragments; only the damaged cells change.
+    std::vector<unsigned char> damaged;
+    PetscCall(damaged_cells(damaged));
     auto &T    = d->topology;
     T.ndamaged = ndamaged;
     for (PetscInt e = 0; e < nc; ++e) T.cell_free[e] = (unsigned char)((T.cell_free[e] & ~0x20) | (damaged[e] ? 0x20 : 0));
@@ -425,9 +430,9 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   //    learns, at the face a joint glues, whether an intact joint glues it (kGlued) or a broken
   //    one held by another rank faced tetrahedron a (that cell's id; a broken joint within the
   //    rank is listed once, by its own rank), whether the joint is intact and held by another
-  //    rank (the face's nodes and its cell are then at a rank boundary), and whether the joint
-  //    is damaged.
-  std::vector<unsigned char>           freef(nc, 0), damaged(nc, 0);
+  //    rank (the face's nodes and its cell are then at a rank boundary). The damaged cells come
+  //    after (damaged_cells).
+  std::vector<unsigned char>           freef(nc, 0), damaged;
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
   std::vector<PetscInt>               &froot = tc.froot;
@@ -436,7 +441,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     if (frac(e)) freef[e] = 0xF; // for an unsplit cell, its faces not glued; the contact adapter keeps those on the body's surface
   if (d->jfsf) {
     for (PetscInt j = 0; j < nj; ++j) {
-      const bool broken = fdem::kernels::JointBroken(d->jstate[j].data()), remote = d->jnode_b[j][0] < 0, hurt = JointDamaged(d->jstate[j]);
+      const bool broken = fdem::kernels::JointBroken(d->jstate[j].data()), remote = d->jnode_b[j][0] < 0;
       int        oa     = -1;
       for (int a = 0; a < 4; ++a) {
         bool in = false;
@@ -444,7 +449,6 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         if (!in) oa = a;
       }
       const PetscInt gb = d->jtet_b[j][0];
-      if (hurt) damaged[ca[j]] = 1;
       if (broken) pairs.push_back({std::min(d->cell_gid[ca[j]], gb), std::max(d->cell_gid[ca[j]], gb)});
       else freef[ca[j]] &= (unsigned char)~(1u << oa);
       if (!broken && remote) {
@@ -454,7 +458,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
       }
       fleaf[3 * j]     = !(broken && !remote) ? (broken ? d->cell_gid[ca[j]] : kGlued) : kNoFace;
       fleaf[3 * j + 1] = !broken && remote ? 1 : kNoFace;
-      fleaf[3 * j + 2] = hurt ? 1 : kNoFace; // tetrahedron b has a damaged joint face
+      fleaf[3 * j + 2] = kNoFace; // (damaged_cells)
     }
     for (PetscInt r : tc.glued) froot[r] = froot[r + 1] = froot[r + 2] = kNoFace; // (the other roots get no leaf)
     PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), froot.data(), MPI_MAX));
@@ -469,12 +473,12 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
         for (int q = 0; q < 4; ++q)
           if (q != o) remote_b.push_back(node(e, q));
       }
-      if (F[2] == 1) damaged[e] = 1;
     }
     std::sort(remote_b.begin(), remote_b.end());
     remote_b.erase(std::unique(remote_b.begin(), remote_b.end()), remote_b.end());
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
+  PetscCall(damaged_cells(damaged));
   std::sort(pairs.begin(), pairs.end());
   // 2. This rank's classes: node keys (the nodes of a split cell's free faces flagged) and fragments.
   LabelClasses nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells = tc.cells;

@@ -148,8 +148,6 @@ struct MaterialModel {
   CellStressFn cell_stress;
   BatchFn batch;
   BatchFn batch_no_visc;
-  BatchFn batch_stress;         // the batched loop storing stresses (CellStresses), not forces
-  BatchFn batch_stress_no_visc;
 };
 const std::vector<MaterialModel> &MaterialModels();
 int FindMaterialModel(const std::string &name);  // -1 if unknown
