@@ -230,16 +230,14 @@ PetscErrorCode Engine::ListAll() {
     PetscCall(a->Changed(&changed));
   }
   prim_.clear();
+  prim_.reserve((size_t)nl_ + nl_ / 2); // (room for the adapters after the first to append to, as the last listing needed)
   PetscReal size_sum = 0;
   PetscInt  size_count = 0;
   for (size_t k = 0; k < adapters_.size(); ++k) {
-    std::vector<Primitive> p;
-    PetscReal              s = 0;
-    PetscInt               n = 0;
-    PetscCall(adapters_[k]->List(p));
-    for (auto &q : p) q.kind = (std::int32_t)k;
-    if (prim_.empty()) prim_.swap(p); // (a mesh lists thousands of records: not copied twice)
-    else prim_.insert(prim_.end(), p.begin(), p.end());
+    PetscReal s = 0;
+    PetscInt  n = 0;
+    PetscCall(adapters_[k]->List(prim_)); // (a mesh lists thousands of records: copied once, into the kept array)
+    for (size_t i = first_[k]; i < prim_.size(); ++i) prim_[i].kind = (std::int32_t)k;
     first_[k + 1] = (int)prim_.size();
     if (par_.buffer < 0) {
       PetscCall(adapters_[k]->BufferProposal(&s, &n));
@@ -661,9 +659,11 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   for (size_t i = 0; i < before.size(); ++i) prim_[i].margin = before[i].margin;
   PetscCall(SendRecords());
-  std::vector<std::array<int, 2>> pairs;
-  std::vector<std::int8_t>        sep;
-  size_t                          j = 0; // the pairs before are kept_'s paired entries, in its order
+  auto  &pairs = pairs_next_; // (swapped with pairs_ and sep_ below: the arrays are kept)
+  auto  &sep   = sep_next_;
+  size_t j     = 0; // the pairs before are kept_'s paired entries, in its order
+  pairs.clear();
+  sep.clear();
   fresh_.clear();
   for (const auto &c : kept_) {
     const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
@@ -834,12 +834,13 @@ PetscErrorCode Engine::Evaluate() {
   }
   pending = pending && changer != nullptr; // (the same on every rank)
   if (!listed_) {
-    const bool             searched = searched_;
-    std::vector<Primitive> before;
-    if (searched && Keepable()) before = prim_;
+    const bool searched = searched_;
+    // the listing before, for KeepSearch (the two arrays swap: neither is copied nor allocated again)
+    if (searched && Keepable()) prim_before_.swap(prim_);
+    else prim_before_.clear();
     PetscCall(ListAll());
     bool kept = false;
-    if (searched) PetscCall(KeepSearch(before, &kept));
+    if (searched) PetscCall(KeepSearch(prim_before_, &kept));
     if (pending && !kept) std::sort(old_pairs_.begin(), old_pairs_.end()); // a search follows: its pairs are found among the old ones by their keys
   }
   if (!spheres_) PetscCall(CheckPenaltySet()); // with spheres: only when two tetrahedra meet

@@ -95,8 +95,8 @@ using Stats = FDEMContactStats;
 class Adapter {
 public:
   virtual ~Adapter() = default;
-  // This rank's primitives (kind is set by the engine). Called at the first evaluation
-  // after Engine::Reset(). Collective.
+  // This rank's primitives, appended to prims (kind is set by the engine). Called at the first
+  // evaluation after Engine::Reset(). Collective.
   virtual PetscErrorCode List(std::vector<Primitive> &prims) = 0;
   // Current vertex positions x[i] and, when v is not null, velocities v[i] of the listed
   // primitives i in `which` (increasing; null: all). The engine asks for all positions at a
@@ -339,6 +339,9 @@ private:
   // own primitives [0, nl_) then ghosts [nl_, nl_ + ng_)
   int                           nl_ = 0, ng_ = 0;
   std::vector<Primitive>        prim_, gprim_;
+  std::vector<Primitive>        prim_before_; // the listing before a listing that may keep the search (Evaluate, KeepSearch)
+  std::vector<std::array<int, 2>> pairs_next_; // KeepSearch's pairs and axes, swapped with pairs_ and sep_
+  std::vector<std::int8_t>        sep_next_;
   std::vector<Vertices>         x_, v_, gx_, gv_, f_, gf_;
   std::vector<std::vector<int>> touch_; // per adapter: its primitives with vertex records at an evaluation (increasing): in a pair here or ghosts elsewhere, but for own spheres met only by spheres (read and given their forces directly)
   PetscSF                       sf_ = nullptr; // one item per primitive: its Vertices record (vunit_) or its Primitive

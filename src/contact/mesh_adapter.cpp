@@ -51,14 +51,14 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, S
     // an engine that pairs the mesh only with other kinds has no crack's sides to keep apart:
     // it lists the cells with a free face (or vertex), and lists again only where joints break
     m->damaged_cells_ = dc && pairs == Pairs::WithItself;
-    fdem::model::FractureTopology t;
-    PetscCall(fdem::model::DeformableFractureTopology(d, t));
-    m->fracturable_ = t.fracturable;
-    m->nbroken_     = t.nbroken;
-    m->ndamaged_    = t.ndamaged;
-    m->broken_      = t.broken_pairs;
-    PetscCall(m->Shares(t));
-    m->Select(&t);
+    const fdem::model::FractureTopology *t;
+    PetscCall(fdem::model::DeformableFractureTopology(d, &t));
+    m->fracturable_ = t->fracturable;
+    m->nbroken_     = t->nbroken;
+    m->ndamaged_    = t->ndamaged;
+    m->broken_      = t->broken_pairs;
+    PetscCall(m->Shares(*t));
+    m->Select(t);
   } else {
     m->Select(nullptr);
     m->all_ = AllCells(); // not needed again
@@ -101,7 +101,8 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   // taken idle when nothing else takes it (a listing then changes at a rebuild, not each time
   // a joint softens or breaks: the engine keeps its search)
   const bool                                    stable = t && stable_;
-  std::vector<std::tuple<PetscInt, char, bool>> taken;
+  auto &taken = taken_; // (kept: a selection is made each time joints soften or break)
+  taken.clear();
   for (size_t e = 0; e < nc; ++e) {
     const bool frac = t && t->fracturable[A.body[e]];
     char       surf = A.surf[e];
@@ -122,9 +123,11 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   conn_.reserve(taken.size());
   prims_.reserve(taken.size());
   faces_.reserve(taken.size());
+  cell_.clear();
+  if (t) cell_.reserve(taken.size());
   for (const auto &[e, surf, idle] : taken) {
     const bool frac = t && t->fracturable[A.body[e]];
-    Primitive  p;
+    Primitive &p    = prims_.emplace_back(); // (made in place: a selection is made each time joints soften or break)
     p.body = A.body[e];
     p.elem = A.gid[e];
     p.key  = A.gid[e];
@@ -139,7 +142,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
     if (frac && !share_.empty()) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
-    prims_.push_back(p);
+    if (t) cell_.push_back(e);
     faces_.push_back(surf);
   }
 }
@@ -200,20 +203,20 @@ PetscErrorCode MeshAdapter::Changed(PetscBool *changed) {
   else PetscCall(Pending(&pending));
   pending_ = -1;
   if (!pending) PetscFunctionReturn(0);
-  fdem::model::FractureTopology t;
-  PetscCall(fdem::model::DeformableFractureTopology(d_, t));
-  if (t.nbroken != nbroken_) PetscCall(Shares(t)); // the surface changes only where joints break
-  nbroken_  = t.nbroken;
-  ndamaged_ = t.ndamaged;
-  broken_  = t.broken_pairs;
-  Select(&t);
+  const fdem::model::FractureTopology *t;
+  PetscCall(fdem::model::DeformableFractureTopology(d_, &t));
+  if (t->nbroken != nbroken_) PetscCall(Shares(*t)); // the surface changes only where joints break
+  nbroken_  = t->nbroken;
+  ndamaged_ = t->ndamaged;
+  broken_   = t->broken_pairs;
+  Select(t);
   *changed = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode MeshAdapter::List(std::vector<Primitive> &prims) {
   PetscFunctionBegin;
-  prims = prims_;
+  prims.insert(prims.end(), prims_.begin(), prims_.end());
   PetscFunctionReturn(0);
 }
 
@@ -356,27 +359,51 @@ PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
   PetscFunctionBegin;
   *sum   = 0;
   *count = 0;
-  PetscCall(FDEMDeformableGetDM(d_, &dm));
-  PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
-  PetscCall(DMGetLocalVector(dm, &Xl));
-  PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
-  PetscCall(VecGetArrayRead(Xl, &xa));
-  for (size_t i = 0; i < conn_.size(); ++i) {
-    if (prims_[i].idle) continue; // (the buffer of the cells in contact, as without idle ones)
-    const auto &T    = conn_[i];
-    PetscReal   diam = 0;
-    ++*count;
+  // the longest edge of a cell, from the local reference positions
+  const auto diameter = [](const PetscScalar *xa, const PetscInt T[4]) {
+    PetscReal diam = 0;
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
         PetscReal dd = 0;
         for (int k = 0; k < 3; ++k) dd += PetscSqr(PetscRealPart(xa[3 * T[a] + k] - xa[3 * T[b] + k]));
         diam = std::max(diam, PetscSqrtReal(dd));
       }
-    *sum += diam;
+    return diam;
+  };
+  // with joints the listing changes often and the cells do not: each cell's once, from the
+  // local reference positions kept at the first call (collective, as fractured_ is the same on
+  // every rank; Select then lists cell_)
+  const bool cached = fractured_;
+  if (!cached || !diam_made_) {
+    PetscCall(FDEMDeformableGetDM(d_, &dm));
+    PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
+    PetscCall(DMGetLocalVector(dm, &Xl));
+    PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
+    PetscCall(VecGetArrayRead(Xl, &xa));
+    if (cached) {
+      PetscInt n;
+      PetscCall(VecGetLocalSize(Xl, &n));
+      xref_.assign(xa, xa + n);
+      diam_.assign(all_.body.size(), -1);
+      diam_made_ = true;
+    } else
+      for (size_t i = 0; i < conn_.size(); ++i) {
+        if (prims_[i].idle) continue; // (the buffer of the cells in contact, as without idle ones)
+        ++*count;
+        *sum += diameter(xa, conn_[i].data());
+      }
+    PetscCall(VecRestoreArrayRead(Xl, &xa));
+    PetscCall(DMRestoreLocalVector(dm, &Xl));
   }
+  if (cached)
+    for (size_t i = 0; i < conn_.size(); ++i) {
+      if (prims_[i].idle) continue;
+      PetscReal &D = diam_[cell_[i]];
+      if (D < 0) D = diameter(xref_.data(), conn_[i].data());
+      ++*count;
+      *sum += D;
+    }
   *sum *= 0.25;
-  PetscCall(VecRestoreArrayRead(Xl, &xa));
-  PetscCall(DMRestoreLocalVector(dm, &Xl));
   PetscFunctionReturn(0);
 }
 } // namespace fdem::contact

@@ -6,6 +6,8 @@
 #include "../model/deformable_impl.hpp"
 #include <fdem/deformable.h>
 
+#include <tuple>
+
 namespace fdem::contact {
 class MeshAdapter : public Adapter {
 public:
@@ -92,6 +94,11 @@ private:
   std::vector<std::array<PetscInt, 4>> conn_;  // local node indices
   std::vector<Primitive>               prims_; // body, global element id, node global ids
   std::vector<char>                    faces_; // bit o: the face opposite node o is on the boundary
+  std::vector<PetscInt>                cell_;  // with joints: the local cell of each listed one (all_'s index)
+  std::vector<PetscReal>               diam_;  // with joints: each local cell's longest edge at the reference positions once asked for, else -1 (BufferProposal)
+  std::vector<PetscScalar>             xref_;  // with joints: the local reference positions (BufferProposal)
+  bool                                 diam_made_ = false; // xref_ and diam_ are made
+  std::vector<std::tuple<PetscInt, char, bool>> taken_; // Select's scratch: the cells taken, their surfaces, idle
   std::vector<PetscReal>               body_force_;
   std::vector<PetscInt>                ref_node_; // the local nodes of the listed cells, each once, in order
   std::vector<PetscReal>               ref_x_;    // their positions at the last search (3 a node)

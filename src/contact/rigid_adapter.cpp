@@ -120,8 +120,7 @@ PetscErrorCode RigidAdapter::List(std::vector<Primitive> &prims) {
   inv_inertia_.clear();
   prim_body_.clear();
   prim_tet_.clear();
-  ball_.clear();
-  prims.clear();
+  ball_.clear(); // (prims: appended to)
   PetscCall(fdem::model::RigidGetFields(rb_->sw, f));
   for (PetscInt b = 0; b < rb_->n; ++b) {
     const PetscInt id  = rb_->ids[b];

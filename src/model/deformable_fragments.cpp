@@ -359,18 +359,28 @@ static PetscErrorCode MakeTopologyCache(FDEMDeformable d, const std::vector<char
       }
   for (PetscInt e = 0; e < nc; ++e) c->cells.Find(e); // every path compressed
   c->froot.assign(12 * (std::size_t)nc, 0);
-  if (d->jfsf) {
-    const PetscInt *degree;
-    PetscCall(PetscSFComputeDegreeBegin(d->jfsf, &degree));
-    PetscCall(PetscSFComputeDegreeEnd(d->jfsf, &degree));
+  if (d->jfsf) { // the faces some joint's leaves reach (a reduction into the zeroed roots: no degree arrays)
+    PetscInt nleaves;
+    PetscCall(PetscSFGetGraph(d->jfsf, nullptr, &nleaves, nullptr, nullptr));
+    const std::vector<PetscInt> one(nleaves, 1);
+    PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, one.data(), c->froot.data(), MPI_MAX));
+    PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, one.data(), c->froot.data(), MPI_MAX));
     for (PetscInt r = 0; r < 12 * nc; r += 3)
-      if (degree[r] || degree[r + 1] || degree[r + 2]) c->glued.push_back(r);
+      if (c->froot[r] || c->froot[r + 1] || c->froot[r + 2]) c->glued.push_back(r);
   }
   d->topology_cache = std::move(c);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, FractureTopology &t) {
+  const FractureTopology *p;
+  PetscFunctionBegin;
+  PetscCall(DeformableFractureTopology(d, &p));
+  t = *p;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, const FractureTopology **out) {
   constexpr PetscInt kNone = PETSC_MAX_INT, kNoFace = -3, kGlued = -2; // kNone: no label (MPI_MIN); kNoFace, kGlued: a face's joint (MPI_MAX)
   PetscFunctionBegin;
   PetscCall(CheckSetUp(d, "DeformableFractureTopology"));
@@ -379,7 +389,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
   PetscInt nbroken, ndamaged;
   PetscCall(DeformableJointCounts(d, &nbroken, &ndamaged));
   if (d->topology_made && d->topology.nbroken == nbroken && d->topology.ndamaged == ndamaged) {
-    t = d->topology;
+    *out = &d->topology;
     PetscFunctionReturn(0);
   }
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
@@ -410,9 +420,10 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     auto &T    = d->topology;
     T.ndamaged = ndamaged;
     for (PetscInt e = 0; e < nc; ++e) T.cell_free[e] = (unsigned char)((T.cell_free[e] & ~0x20) | (damaged[e] ? 0x20 : 0));
-    t = T;
+    *out = &T;
     PetscFunctionReturn(0);
   }
+  FractureTopology t;
   t.fracturable          = FracturableBodies(d);
   const auto     frac    = [&](PetscInt e) { return t.fracturable[d->ed.body[e]] != 0; };
   const auto     node    = [&](PetscInt e, int a) { return (PetscInt)d->ed.elems[e].n[a]; };
@@ -580,8 +591,9 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, Fractur
     t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0) | (jointed[e] ? 0x80 : 0));
     t.cell_fragment[e] = cells.Label(e);
   }
-  d->topology      = t;
+  d->topology      = std::move(t);
   d->topology_made = true;
+  *out             = &d->topology;
   PetscFunctionReturn(0);
 }
 
@@ -657,11 +669,12 @@ bool FragmentBefore(const FDEMFragment &a, const FDEMFragment &b) { return a.bod
 // fragment they belong to; the sums meet at the fragment's rank through a rendezvous SF on
 // (id, body). Nothing per fragment of the whole mesh is held anywhere.
 PetscErrorCode LocalFragments(FDEMDeformable d, Vec U, std::vector<FDEMFragment> &out) {
-  fdem::model::FractureTopology t;
-  StateView                     sv;
-  constexpr int                 kSums = 8; // mass, m x (3), m v (3), cells
+  const fdem::model::FractureTopology *tp;
+  StateView                            sv;
+  constexpr int                        kSums = 8; // mass, m x (3), m v (3), cells
   PetscFunctionBegin;
-  PetscCall(fdem::model::DeformableFractureTopology(d, t));
+  PetscCall(fdem::model::DeformableFractureTopology(d, &tp));
+  const fdem::model::FractureTopology &t = *tp;
   const std::size_t                    nc = d->ed.size();
   std::vector<std::array<PetscInt, 2>> keys(nc); // (id, body) of the fragments of this rank's cells
   for (std::size_t e = 0; e < nc; ++e) keys[e] = {t.cell_fragment[e], d->ed.body[e]};
@@ -765,10 +778,10 @@ PetscErrorCode FDEMDeformableGetFragments(FDEMDeformable d, Vec U, PetscInt *cou
   PetscCall(CheckSetUp(d, "FDEMDeformableGetFragments"));
   PetscCheck(count || fragments, d->comm, PETSC_ERR_ARG_NULL, "FDEMDeformableGetFragments: give count or fragments (or both)");
   if (!fragments) { // the count alone: the cells that name their fragment, over the ranks
-    fdem::model::FractureTopology t;
-    PetscInt                      n = 0;
-    PetscCall(fdem::model::DeformableFractureTopology(d, t));
-    for (std::size_t e = 0; e < t.cell_fragment.size(); ++e) n += t.cell_fragment[e] == d->cell_gid[e];
+    const fdem::model::FractureTopology *t;
+    PetscInt                             n = 0;
+    PetscCall(fdem::model::DeformableFractureTopology(d, &t));
+    for (std::size_t e = 0; e < t->cell_fragment.size(); ++e) n += t->cell_fragment[e] == d->cell_gid[e];
     PetscCallMPI(MPIU_Allreduce(&n, count, 1, MPIU_INT, MPI_SUM, d->comm));
     PetscFunctionReturn(0);
   }

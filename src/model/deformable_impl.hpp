@@ -54,6 +54,8 @@ struct FractureTopology {
 // ranks it shares joints or nodes with; deformable_fragments.cpp). Nothing per fragment of
 // the whole mesh is held anywhere.
 PetscErrorCode DeformableFractureTopology(FDEMDeformable d, FractureTopology &t);
+// The same, kept by the model (valid until the next call or the model's destruction): not copied.
+PetscErrorCode DeformableFractureTopology(FDEMDeformable d, const FractureTopology **t);
 // The weight of a sphere's contact with one copy of a vertex or an edge of a fracturable
 // body (doc/fracture.md, "Spheres on a fracturing body"): 10 per local cell, its 4 vertices and
 // then its 6 edges in the order of fdem::kernels::kTetEdges. A copy of an input vertex (edge)

@@ -223,6 +223,17 @@ PetscErrorCode fdem::model::deformable::MapFromSplit(FDEMDeformable d, Vec old, 
   PetscCall(PetscObjectGetName((PetscObject)nat, &name));
   PetscCall(VecGetSize(old, &N));
   PetscCheck(N == per * nold, d->comm, PETSC_ERR_FILE_UNEXPECTED, "the saved %s has %" PetscInt_FMT " entries; the split it was written with has %" PetscInt_FMT " x %" PetscInt_FMT " (another scene?)", name, N, nold, per);
+  if (d->size == 1) { // both vectors are whole on rank 0 already: no copies through scatters
+    const PetscScalar *o;
+    PetscScalar       *n;
+    PetscCall(VecSet(nat, 0));
+    PetscCall(VecGetArrayRead(old, &o));
+    PetscCall(VecGetArray(nat, &n));
+    fill(o, n);
+    PetscCall(VecRestoreArray(nat, &n));
+    PetscCall(VecRestoreArrayRead(old, &o));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecScatterCreateToZero(old, &so, &old0));
   PetscCall(VecScatterBegin(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(so, old, old0, INSERT_VALUES, SCATTER_FORWARD));
@@ -456,6 +467,7 @@ PetscErrorCode FDEMDeformableReuseSetUp(FDEMDeformable to, FDEMDeformable from) 
   PetscCall(CheckNotSetUp(to, "FDEMDeformableReuseSetUp"));
   PetscCall(CheckSetUp(from, "FDEMDeformableReuseSetUp"));
   to->reuse = from->insertion_input; // (rank 0; SetUp checks that it fits)
+  to->reuse_keys = from->cell_keys;  // (every rank; BuildLocal takes a key only where a centroid and the box match)
   PetscFunctionReturn(0);
 }
 

@@ -87,6 +87,15 @@ struct InsertionInput {
   std::unique_ptr<fdem::kernels::JointSplitter> splitter;    // its splits (the faces sorted once), of `mesh` here
   double                                        joint_omega = 0; // the joints' largest frequency with every tetrahedron that may split split
 };
+// This rank's cells' centroids (reference positions) and their Hilbert keys, in the order its
+// DM numbers its cells, with the box the keys were scaled to: a model built again after an
+// insertion (FDEMDeformableReuseSetUp) takes the key of each cell whose centroid and box are
+// the same to the bit instead of computing it (BuildLocal).
+struct CellKeys {
+  fdem::kernels::Vec3                lo, hi;
+  std::vector<fdem::kernels::Vec3>   centroid;
+  std::vector<std::uint64_t>         key;
+};
 // Whether two meshes have the same bodies, tetrahedra and node positions.
 inline bool SameMesh(const fdem::kernels::TetMesh &M, const fdem::kernels::TetMesh &mesh) {
   return M.tets == mesh.tets && M.body == mesh.body && M.nodes.size() == mesh.nodes.size() &&
@@ -141,6 +150,8 @@ struct _n_FDEMDeformable {
   std::vector<double>                     stress_scratch; // FDEMDeformableFindCellsToSplit's stresses (kept: a search every few steps)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> insertion_input; // rank 0, with insertion (FDEMDeformableReuseSetUp shares it between the models of one run)
   std::shared_ptr<const fdem::model::deformable::InsertionInput> reuse;           // rank 0: the one FDEMDeformableReuseSetUp gave, for SetUp
+  std::shared_ptr<const fdem::model::deformable::CellKeys> cell_keys;             // this rank's cells' Hilbert keys (BuildLocal)
+  std::shared_ptr<const fdem::model::deformable::CellKeys> reuse_keys;            // those of the model FDEMDeformableReuseSetUp gave, for SetUp
   std::vector<char>                       split_body, box_split; // rank 0, with insertion: fracturable bodies; tetrahedra split by their zones (or whole bodies)
   std::vector<char>                       tet_split;      // rank 0, with insertion: the tetrahedra split now
   std::vector<PetscInt>                   origin_of;      // rank 0: the inserted cells of the split that node_origin and joint_origin map from

@@ -123,10 +123,14 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   // neighbours in space, whatever order the mesh was given in
   const PetscInt        nc = cEnd - cStart;
   std::vector<PetscInt> order(nc);
-  std::vector<std::uint64_t> hkey(nc);
+  auto                       keys = std::make_shared<fdem::model::deformable::CellKeys>();
+  std::vector<std::uint64_t> &hkey = keys->key;
+  hkey.resize(nc);
   {
-    std::vector<Vec3> cen(nc);
-    Vec3              lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    std::vector<Vec3> &cen = keys->centroid;
+    Vec3              &lo = keys->lo, &hi = keys->hi;
+    cen.resize(nc);
+    lo = Vec3(1e300, 1e300, 1e300), hi = Vec3(-1e300, -1e300, -1e300);
     PetscCall(VecGetArrayRead(coords, &ca));
     for (PetscInt c = 0; c < nc; ++c) {
       const PetscInt *cone;
@@ -142,7 +146,12 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], cen[c][k]), hi[k] = std::max(hi[k], cen[c][k]);
     }
     PetscCall(VecRestoreArrayRead(coords, &ca));
-    for (PetscInt c = 0; c < nc; ++c) hkey[c] = fdem::kernels::HilbertKey(cen[c], lo, hi);
+    // (a model built again after an insertion has the same cells, mostly in the same order)
+    const auto same = [](const Vec3 &a, const Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+    const auto *R   = d->reuse_keys && same(d->reuse_keys->lo, lo) && same(d->reuse_keys->hi, hi) ? d->reuse_keys.get() : nullptr;
+    for (PetscInt c = 0; c < nc; ++c)
+      hkey[c] = R && c < (PetscInt)R->key.size() && same(R->centroid[c], cen[c]) ? R->key[c] : fdem::kernels::HilbertKey(cen[c], lo, hi);
+    d->reuse_keys.reset();
   }
   std::iota(order.begin(), order.end(), 0);
   auto matof = [&](PetscInt c) { return d->material_of_body[cellbody[cStart + c]]; };
@@ -151,6 +160,7 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
     if (ma != mb) return ma < mb;
     return hkey[a] != hkey[b] ? hkey[a] < hkey[b] : orig[cStart + a] < orig[cStart + b];
   });
+  if (!d->insertion.empty()) d->cell_keys = std::move(keys); // (the next model of the run takes them)
   PetscCall(PetscSectionCreate(d->comm, &s));
   PetscCall(PetscSectionSetChart(s, pStart, pEnd));
   for (PetscInt p = vStart; p < vEnd; ++p) PetscCall(PetscSectionSetDof(s, p, 3));
