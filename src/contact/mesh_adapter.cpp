@@ -127,7 +127,9 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   if (t) cell_.reserve(taken.size());
   for (const auto &[e, surf, idle] : taken) {
     const bool frac = t && t->fracturable[A.body[e]];
-    Primitive &p    = prims_.emplace_back(); // (made in place: a selection is made each time joints soften or break)
+    static const Primitive blank; // (copied, then filled in place: value-initialising each one zeroed it first)
+    prims_.push_back(blank);
+    Primitive &p = prims_.back(); // (a selection is made each time joints soften or break)
     p.body = A.body[e];
     p.elem = A.gid[e];
     p.key  = A.gid[e];
