@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -529,6 +530,17 @@ Scene ReadScene(const std::string &file, const char *text) {
       }
     }
     if (sc.periodic.Any() && b.model == "deformable") r.Fail(bodies[i]["model"] ? bodies[i]["model"] : bodies[i], "body '" + b.name + "': periodic boundaries (periodic: at " + sc.periodic.where + ") hold rigid bodies and spheres only; this body is deformable");
+    { // 1/2 rho |v|^2 (and 1/2 rho |w|^2 a m^2) must be numbers: else the energies are Inf from the start
+      const Material *m   = b.material.empty() ? nullptr : sc.FindMaterial(b.material);
+      const double    rho = m ? m->density : 1.0;
+      const auto      n2s = [](double x) { char t[32]; std::snprintf(t, sizeof(t), "%g", x); return std::string(t); };
+      const auto      too_large = [&](const Vec3 &v, const char *key, const char *what) {
+        const double v2 = v.x * v.x + v.y * v.y + v.z * v.z;
+        if (!std::isfinite(0.5 * rho * v2)) r.Fail(bodies[i][key], "body '" + b.name + "'." + key + ": too large: " + what + " is not a finite number (density " + n2s(rho) + " kg/m^3)");
+      };
+      if (bodies[i]["velocity"]) too_large(b.velocity, "velocity", "its kinetic energy per unit volume, 1/2 density |v|^2,");
+      if (bodies[i]["angular_velocity"]) too_large(b.angular_velocity, "angular_velocity", "1/2 density |w|^2 (its rotational energy per unit volume at 1 m from the axis)");
+    }
     if (b.model == "deformable") {
       const Material *m = sc.FindMaterial(b.material);
       if (!(m->young > 0)) r.Fail(bodies[i]["material"], "body '" + b.name + "': a deformable body needs a material with young (and poisson); '" + m->name + "' (" + m->where + ") has no young");

@@ -46,6 +46,13 @@ PETSC_EXTERN const char *const FDEMGradientTypes[];
    state U and updates its position entries in place. */
 typedef PetscErrorCode (*FDEMDriftFn)(TS ts, PetscReal t, PetscReal s, Vec U, void *ctx);
 PETSC_EXTERN PetscErrorCode FDEMTSSetDrift(TS ts, FDEMDriftFn drift, void *ctx);
+/* Names what became Inf or NaN: when a step's check finds a non-finite entry, the
+   scheme calls it (collectively) with the bad state U and prints its text (`where`, at
+   most len bytes with the terminating zero; empty: nothing to add) after its own message,
+   before it returns the last checked state. A problem whose state holds bodies names the
+   body, node and quantity. */
+typedef PetscErrorCode (*FDEMNonFiniteFn)(TS ts, Vec U, char where[], size_t len, void *ctx);
+PETSC_EXTERN PetscErrorCode FDEMTSSetNonFiniteReport(TS ts, FDEMNonFiniteFn fn, void *ctx);
 /* Declares that the "position" split's right-hand side is the momentum itself
    (F_q(p) = p, dq/dt = p entry by entry, the two splits laid out alike): the
    default drift is then position += s momentum in one pass, without calling

@@ -68,6 +68,7 @@ PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscRe
     if (use_v) PetscCall(VecRestoreArray(d->vloc, &vl));
     PetscCall(VecRestoreArray(d->xloc, &xl));
     const int b = (int)ginfo[0];
+    PetscCheck(std::isfinite(ginfo[1]), d->comm, PETSC_ERR_NOT_CONVERGED, "FDEMDeformable: element %" PetscInt_FMT " of body '%s' has corners that are Inf or NaN at t = %g (the state became non-finite: a time step beyond the stable limit, or a load, position or velocity too large)", gmin, d->body_names[b].c_str(), (double)t);
     SETERRQ(d->comm, PETSC_ERR_NOT_CONVERGED, "FDEMDeformable: element %" PetscInt_FMT " of body '%s' inverted (det F = %g <= 0) at t = %g; reduce the time step or check the loading", gmin, d->body_names[b].c_str(),
             (double)ginfo[1], (double)t);
   }

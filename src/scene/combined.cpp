@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace {
@@ -234,6 +235,65 @@ PetscErrorCode FDEMSceneSetFromOptions(FDEMScene s) {
   PetscFunctionReturn(0);
 }
 
+namespace {
+// FDEMTSSetNonFiniteReport for the scene's state: its first entry that is Inf or NaN, on the
+// lowest rank holding one, named (a deformable body's node by its id, a rigid body by its id,
+// and which of their quantities).
+PetscErrorCode SceneNonFinite(TS, Vec U, char where[], size_t len, void *ctx) {
+  const FDEMScene    s = (FDEMScene)ctx;
+  const PetscScalar *u;
+  PetscInt           n, first = -1;
+  PetscMPIInt        rank, size, mine, who;
+  std::string        text;
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(s->comm, &rank));
+  PetscCallMPI(MPI_Comm_size(s->comm, &size));
+  PetscCall(VecGetLocalSize(U, &n));
+  PetscCall(VecGetArrayRead(U, &u));
+  for (PetscInt i = 0; i < n && first < 0; ++i)
+    if (!std::isfinite(PetscRealPart(u[i]))) first = i;
+  PetscCall(VecRestoreArrayRead(U, &u));
+  mine = first >= 0 ? rank : size;
+  PetscCallMPI(MPI_Allreduce(&mine, &who, 1, MPI_INT, MPI_MIN, s->comm));
+  where[0] = 0;
+  if (who == size) PetscFunctionReturn(0);
+  if (rank == who) {
+    if (first < OffRigid(s) || first >= OffDefV(s)) { // a deformable node (3 entries each)
+      const bool      vel = first >= OffDefV(s);
+      const PetscInt  k   = (vel ? first - OffDefV(s) : first) / 3;
+      const PetscInt *ids;
+      PetscInt        nn, nc, nl, body = -1;
+      const char     *name = nullptr;
+      PetscCall(FDEMDeformableGetNodeIds(s->dfm, &nn, &ids));
+      // its body: that of a local cell holding it
+      PetscCall(FDEMDeformableGetLocalCells(s->dfm, &nc, &nl, nullptr, nullptr, nullptr, nullptr));
+      std::vector<PetscInt> conn(4 * (size_t)nc), cbody(nc), ngid(nl);
+      PetscCall(FDEMDeformableGetLocalCells(s->dfm, &nc, &nl, conn.data(), cbody.data(), nullptr, ngid.data()));
+      for (PetscInt e = 0; e < nc && body < 0; ++e)
+        for (int a = 0; a < 4; ++a)
+          if (ngid[conn[4 * e + a]] == ids[k]) body = cbody[e];
+      if (body >= 0) PetscCall(FDEMDeformableGetBodyName(s->dfm, body, nullptr, &name));
+      text = "node " + std::to_string((long long)ids[k]) + (name ? std::string(" of deformable body '") + name + "'" : std::string(" of the mesh")) + " (its " + (vel ? "velocity" : "position") + ")";
+    } else { // a rigid body: x, R, v, H blocks of 3, 9, 3, 3 per body
+      const PetscInt r = first - OffRigid(s), nr = s->nr;
+      PetscInt       b;
+      const char    *what;
+      if (r < 3 * nr) b = r / 3, what = "position";
+      else if (r < 12 * nr) b = (r - 3 * nr) / 9, what = "orientation";
+      else if (r < 15 * nr) b = (r - 12 * nr) / 3, what = "velocity";
+      else b = (r - 15 * nr) / 3, what = "angular momentum";
+      text = "rigid body " + std::to_string((long long)s->rb->ids[b]) + " (its " + what + ")";
+    }
+  }
+  int tl = (int)text.size();
+  PetscCallMPI(MPI_Bcast(&tl, 1, MPI_INT, who, s->comm));
+  text.resize(tl);
+  PetscCallMPI(MPI_Bcast(text.data(), tl, MPI_CHAR, who, s->comm));
+  PetscCall(PetscStrncpy(where, text.c_str(), len));
+  PetscFunctionReturn(0);
+}
+} // namespace
+
 PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
   PetscInt     start, nr = 0, nd = 0;
   PetscScalar *u;
@@ -289,6 +349,7 @@ PetscErrorCode FDEMSceneSetUpTS(FDEMScene s, TS ts, Vec *U) {
   PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", nullptr, RHSMomentum, s));
   // rotations are not additive: a scene with rigid bodies brings its own drift
   if (s->rb && s->nr_global > 0) PetscCall(FDEMTSSetDrift(ts, Drift, s));
+  PetscCall(FDEMTSSetNonFiniteReport(ts, SceneNonFinite, s));
   PetscCall(TSSetSolution(ts, *U));
   s->ts = ts;
   if (s->rb) {

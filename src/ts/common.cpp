@@ -24,6 +24,10 @@ struct DriftLink {
 struct IdentityLink {
   PetscBool on;
 };
+struct NonFiniteLink {
+  FDEMNonFiniteFn fn;
+  void           *ctx;
+};
 struct JvpLink {
   FDEMJacobianProductFn fn;
   void                 *ctx;
@@ -614,12 +618,15 @@ PetscErrorCode FinishStep(TS ts, Common *c, PetscBool *ok) {
       bad = (PetscBool)PetscIsInfOrNanReal(nrm);
     }
     if (bad) {
-      char msg[1024], kc[64];
+      char           msg[1024], kc[64], where[400] = "";
+      NonFiniteLink *report;
       *ok = PETSC_FALSE;
+      PetscCall(QueryLink(ts, "FDEMTSNonFinite", &report));
+      if (report) PetscCall(report->fn(ts, ts->vec_sol, where, sizeof(where), report->ctx)); // (collective)
       PetscCall(PetscSNPrintf(msg, sizeof(msg),
-                              "fdem -ts_type %s: the solution became Inf or NaN in step %" PetscInt_FMT " (t = %g, h = %g). The scheme is stable only for omega*h < K_crit = %s, omega being the highest natural "
+                              "fdem -ts_type %s: the solution became Inf or NaN in step %" PetscInt_FMT " (t = %g, h = %g)%s%s. The scheme is stable only for omega*h < K_crit = %s, omega being the highest natural "
                               "frequency of the problem: reduce the time step (-ts_dt)",
-                              c->info.name, ts->steps + 1, (double)(ts->ptime + ts->time_step), (double)ts->time_step, KcritText(c, kc, sizeof(kc))));
+                              c->info.name, ts->steps + 1, (double)(ts->ptime + ts->time_step), (double)ts->time_step, where[0] ? ", first at " : "", where, KcritText(c, kc, sizeof(kc))));
       PetscCall(StepFailed(ts, c, msg));
       PetscFunctionReturn(0);
     }
@@ -719,6 +726,13 @@ PetscErrorCode DropHistory(Common *c) {
 } // namespace fdem::ts
 
 using namespace fdem::ts;
+
+PetscErrorCode FDEMTSSetNonFiniteReport(TS ts, FDEMNonFiniteFn fn, void *ctx) {
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+  PetscCall(ComposeLink(ts, "FDEMTSNonFinite", NonFiniteLink{fn, ctx}, fn == nullptr));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode FDEMTSSetDrift(TS ts, FDEMDriftFn drift, void *ctx) {
   PetscFunctionBegin;

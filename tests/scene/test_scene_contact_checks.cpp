@@ -10,6 +10,9 @@
 //     above 0.5 for a large dt and below for a small one; omega_c equals the documented rigid-side
 //     estimate when the mesh side is slower (a dense mesh); the automatic check at the first
 //     evaluation of a TS stores the same ratio in the stats.
+//  4. A state entry made NaN: a rigid body's velocity stops the run at the scheme's check, which
+//     names the body and the quantity (FDEMTSSetNonFiniteReport); a mesh node's velocity at the
+//     element check, which names the element and the body.
 #include <fdem.h>
 #include <fdem/scene.h>
 #include <fdem/kernels/massprops.hpp>
@@ -250,6 +253,56 @@ PetscErrorCode TestTimeStep() {
   PetscCall(FDEMDeformableDestroy(&d));
   PetscFunctionReturn(0);
 }
+
+// ------------------------------------------------------------------ 4. Inf or NaN named
+PetscErrorCode TestNonFinite() {
+  const PetscReal zero[3] = {0, 0, 0}, dlo[3] = {0, 0, 0}, dhi[3] = {1, 1, 1};
+  PetscMPIInt     rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  for (int part = 0; part < 2; ++part) {
+    FDEMRigid      rb = nullptr;
+    FDEMDeformable d  = nullptr;
+    FDEMScene      sc;
+    TS             ts;
+    Vec            U;
+    PetscInt       nd = 0, nr = 0;
+    PetscScalar   *u;
+    PetscCall(FDEMSceneCreate(PETSC_COMM_WORLD, &sc));
+    if (part == 0) { // a rigid cube alone
+      PetscCall(FDEMRigidCreate(PETSC_COMM_WORLD, &rb));
+      PetscCall(FDEMRigidSetDomain(rb, dlo, dhi));
+      PetscCall(AddCube(rb, 0.45, 0.55, 0.25, 0.01, zero, zero, nullptr));
+      PetscCall(FDEMSceneSetRigid(sc, rb));
+      PetscCall(FDEMRigidGetNumBodies(rb, &nr, nullptr));
+    } else { // a slab alone
+      PetscCall(MakeSlab(PETSC_COMM_WORLD, 1, 4, 1000, &d));
+      PetscCall(FDEMSceneSetDeformable(sc, d));
+      PetscCall(FDEMDeformableGetSizes(d, nullptr, nullptr, &nd, nullptr));
+    }
+    PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
+    PetscCall(TSSetType(ts, "cd"));
+    PetscCall(FDEMSceneSetUpTS(sc, ts, &U));
+    PetscCall(TSSetTimeStep(ts, 1e-5));
+    PetscCall(TSSetMaxSteps(ts, 30));
+    PetscCall(VecGetArray(U, &u));
+    // the last rank holding some: the cube's z velocity (after x, R and v's x, y), the first owned node's x velocity
+    PetscMPIInt holds = (part == 0 ? nr : nd) > 0 ? rank : -1, last;
+    PetscCallMPI(MPI_Allreduce(&holds, &last, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD));
+    if (rank == last) u[part == 0 ? 12 * nr + 2 : 3 * nd] = NAN;
+    PetscCall(VecRestoreArray(U, &u));
+    // the velocity's NaN reaches the cube's position at the step's drift, which comes first in
+    // the state; a mesh's reaches its elements' corners, which the element check finds first
+    if (part == 0) PetscCall(ExpectError("non-finite: a rigid body's velocity", {"became Inf or NaN", "first at rigid body 0 (its position)"}, [&]() { return TSSolve(ts, U); }));
+    else PetscCall(ExpectError("non-finite: a mesh node's velocity", {"of body 'box' has corners that are Inf or NaN"}, [&]() { return TSSolve(ts, U); }));
+    PetscCall(VecDestroy(&U));
+    PetscCall(TSDestroy(&ts));
+    PetscCall(FDEMSceneDestroy(&sc));
+    if (rb) PetscCall(FDEMRigidDestroy(&rb));
+    if (d) PetscCall(FDEMDeformableDestroy(&d));
+  }
+  PetscFunctionReturn(0);
+}
 } // namespace
 
 int main(int argc, char **argv) {
@@ -258,6 +311,7 @@ int main(int argc, char **argv) {
   PetscCall(TestHalo());
   PetscCall(TestOverlap());
   PetscCall(TestTimeStep());
+  PetscCall(TestNonFinite());
   if (failures) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%d failure(s)\n", failures));
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
