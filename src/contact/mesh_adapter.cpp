@@ -309,7 +309,7 @@ PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscCall(DMGetLocalVector(dm, &Xl));
   PetscCall(DMGetLocalVector(dm, &Kl));
   PetscCall(DMGetGlobalVector(dm, &Kg));
-  PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
+  PetscCall(fdem::model::DeformableGlobalToLocal(d_, X, Xl));
   PetscCall(VecSet(Kl, 0));
   PetscCall(VecGetArrayRead(Xl, &xa));
   PetscCall(VecGetArray(Kl, &kl));
@@ -330,7 +330,7 @@ PetscErrorCode MeshAdapter::Frequency2(PetscReal penalty, PetscReal *w2) {
   PetscCall(VecRestoreArray(Kl, &kl));
   PetscCall(VecRestoreArrayRead(Xl, &xa));
   PetscCall(VecSet(Kg, 0));
-  PetscCall(DMLocalToGlobal(dm, Kl, ADD_VALUES, Kg));
+  PetscCall(fdem::model::DeformableLocalToGlobal(d_, Kl, ADD_VALUES, Kg));
   PetscCall(VecGetArrayRead(Kg, &kg));
   PetscCall(VecGetArrayRead(M, &ma));
   for (size_t n = 0; n < fixed->size(); ++n) {
@@ -380,7 +380,7 @@ PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
     PetscCall(FDEMDeformableGetDM(d_, &dm));
     PetscCall(FDEMDeformableGetReferencePositions(d_, &X));
     PetscCall(DMGetLocalVector(dm, &Xl));
-    PetscCall(DMGlobalToLocal(dm, X, INSERT_VALUES, Xl));
+    PetscCall(fdem::model::DeformableGlobalToLocal(d_, X, Xl));
     PetscCall(VecGetArrayRead(Xl, &xa));
     if (cached) {
       PetscInt n;

@@ -1,5 +1,6 @@
 // The boundary of a distributed tetrahedral mesh (see surface.hpp).
 #include "surface.hpp"
+#include "../model/deformable_impl.hpp"
 
 #include <fdem/kernels/bucket_sort.hpp>
 
@@ -113,8 +114,8 @@ PetscErrorCode fdem::contact::BoundaryNodes(FDEMDeformable d, const std::vector<
           if (q != o) a[3 * conn[4 * e + q]] = 1;
   PetscCall(VecRestoreArray(l, &a));
   PetscCall(VecSet(g, 0));
-  PetscCall(DMLocalToGlobal(dm, l, ADD_VALUES, g));
-  PetscCall(DMGlobalToLocal(dm, g, INSERT_VALUES, l));
+  PetscCall(fdem::model::DeformableLocalToGlobal(d, l, ADD_VALUES, g));
+  PetscCall(fdem::model::DeformableGlobalToLocal(d, g, l));
   PetscCall(VecGetArray(l, &a));
   flag.assign(nlocal, 0);
   for (PetscInt i = 0; i < nlocal; ++i) flag[i] = PetscRealPart(a[3 * i]) > 0;

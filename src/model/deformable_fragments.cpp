@@ -291,8 +291,8 @@ PetscErrorCode fdem::model::DeformableSharedNodes(FDEMDeformable d, std::vector<
   PetscCall(DMGetGlobalVector(d->dm, &g));
   PetscCall(VecSet(l, 1));
   PetscCall(VecSet(g, 0));
-  PetscCall(DMLocalToGlobal(d->dm, l, ADD_VALUES, g));
-  PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
+  PetscCall(fdem::model::DeformableLocalToGlobal(d, l, ADD_VALUES, g));
+  PetscCall(fdem::model::DeformableGlobalToLocal(d, g, l));
   PetscCall(VecGetArray(l, &a));
   shared.assign(d->nlocal, 0);
   for (PetscInt i = 0; i < d->nlocal; ++i) shared[i] = PetscRealPart(a[3 * i]) > 1.5;
@@ -690,10 +690,10 @@ PetscErrorCode LocalFragments(FDEMDeformable d, Vec U, std::vector<FDEMFragment>
   PetscCall(DMGetLocalVector(d->dm, &Xl));
   PetscCall(DMGetLocalVector(d->dm, &Vl));
   PetscCall(VecPlaceArray(d->gwork, sv.xa));
-  PetscCall(DMGlobalToLocal(d->dm, d->gwork, INSERT_VALUES, Xl));
+  PetscCall(fdem::model::DeformableGlobalToLocal(d, d->gwork, Xl));
   PetscCall(VecResetArray(d->gwork));
   PetscCall(VecPlaceArray(d->gwork, sv.va));
-  PetscCall(DMGlobalToLocal(d->dm, d->gwork, INSERT_VALUES, Vl));
+  PetscCall(fdem::model::DeformableGlobalToLocal(d, d->gwork, Vl));
   PetscCall(VecResetArray(d->gwork));
   PetscCall(sv.Restore());
   PetscCall(VecGetArrayRead(Xl, &xl));

@@ -290,17 +290,17 @@ PetscErrorCode BuildLocal(FDEMDeformable d, const std::vector<PetscInt> &orig, c
   }
   PetscCall(VecRestoreArray(d->xloc, &xl));
   PetscCall(VecRestoreArray(d->floc, &fl));
-  PetscCall(DMLocalToGlobal(dm, d->xloc, INSERT_VALUES, d->X));
+  d->local_is_owned = d->size == 1 && d->nlocal == d->nown;
+  for (PetscInt k = 0; d->local_is_owned && k < d->nown; ++k) d->local_is_owned = d->owned_local[k] == k;
+  PetscCall(fdem::model::DeformableLocalToGlobal(d, d->xloc, INSERT_VALUES, d->X));
   PetscCall(VecSet(d->m, 0));
-  PetscCall(DMLocalToGlobal(dm, d->floc, ADD_VALUES, d->m));
+  PetscCall(fdem::model::DeformableLocalToGlobal(d, d->floc, ADD_VALUES, d->m));
   PetscCall(VecCopy(d->X, d->x));
   PetscCall(VecSet(d->v, 0));
   PetscCall(VecCopy(d->m, d->minv));
   PetscCall(VecReciprocal(d->minv));
   d->fixed.assign(d->nown, 0);
   d->vfix.assign(3 * d->nown, 0);
-  d->local_is_owned = d->size == 1 && d->nlocal == d->nown;
-  for (PetscInt k = 0; d->local_is_owned && k < d->nown; ++k) d->local_is_owned = d->owned_local[k] == k;
   PetscFunctionReturn(0);
 }
 
