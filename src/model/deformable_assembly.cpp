@@ -1,7 +1,8 @@
 // Deformable bodies, assembly: internal forces of the local cells (the CST
 // kernel) plus the external-force hook, assembled over ranks with
 // DMLocalToGlobal(ADD_VALUES); a = f/m + g; the "position"/"momentum" split
-// right-hand sides of FDEMDeformableSetUpTS. See doc/deformable.md.
+// right-hand sides of FDEMDeformableSetUpTS; the global/local exchanges the rest of the model
+// uses (copies on one rank). See doc/deformable.md.
 #include "deformable_impl.hpp"
 #include "deformable_object.hpp"
 
@@ -10,6 +11,24 @@
 #include <cstdint>
 
 using namespace fdem::model::deformable;
+
+// (declared in deformable_impl.hpp; AssembleForces below goes further on one rank and places
+// the arrays instead of copying them)
+PetscErrorCode fdem::model::DeformableGlobalToLocal(FDEMDeformable d, Vec g, Vec l) {
+  PetscFunctionBegin;
+  if (d->local_is_owned) PetscCall(VecCopy(g, l));
+  else PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fdem::model::DeformableLocalToGlobal(FDEMDeformable d, Vec l, InsertMode mode, Vec g) {
+  PetscFunctionBegin;
+  PetscCheck(mode == INSERT_VALUES || mode == ADD_VALUES, d->comm, PETSC_ERR_SUP, "DeformableLocalToGlobal: INSERT_VALUES or ADD_VALUES only");
+  if (!d->local_is_owned) PetscCall(DMLocalToGlobal(d->dm, l, mode, g));
+  else if (mode == INSERT_VALUES) PetscCall(VecCopy(l, g));
+  else PetscCall(VecAXPY(g, 1.0, l));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode fdem::model::deformable::AssembleForces(FDEMDeformable d, PetscReal t, const PetscScalar *xo, const PetscScalar *vo, PetscScalar *fo) {
   PetscScalar *xl, *vl = nullptr, *fl;

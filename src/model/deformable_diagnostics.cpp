@@ -9,21 +9,6 @@ using fdem::kernels::Mat3;
 using fdem::kernels::Vec3;
 using namespace fdem::model::deformable;
 
-PetscErrorCode fdem::model::DeformableGlobalToLocal(FDEMDeformable d, Vec g, Vec l) {
-  PetscFunctionBegin;
-  if (d->local_is_owned) PetscCall(VecCopy(g, l));
-  else PetscCall(DMGlobalToLocal(d->dm, g, INSERT_VALUES, l));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode fdem::model::DeformableLocalToGlobal(FDEMDeformable d, Vec l, InsertMode mode, Vec g) {
-  PetscFunctionBegin;
-  if (!d->local_is_owned) PetscCall(DMLocalToGlobal(d->dm, l, mode, g));
-  else if (mode == INSERT_VALUES) PetscCall(VecCopy(l, g));
-  else PetscCall(VecAXPY(g, 1.0, l));
-  PetscFunctionReturn(0);
-}
-
 // positions of all local nodes at a state
 PetscErrorCode fdem::model::deformable::LocalPositions(FDEMDeformable d, const PetscScalar *xo, const PetscScalar *vo) {
   PetscFunctionBegin;

@@ -74,8 +74,9 @@ PetscErrorCode DeformableJointCounts(FDEMDeformable d, PetscInt *nbroken, PetscI
 // The local nodes this rank shares with others (1 per local node), through the DM's ghost
 // nodes. Collective.
 PetscErrorCode DeformableSharedNodes(FDEMDeformable d, std::vector<char> &shared);
-// DMGlobalToLocal (INSERT_VALUES) and DMLocalToGlobal (mode) of the model's DM; on one rank whose
-// local vectors are the global ones, a copy (a sum for ADD_VALUES): no section SF is made.
+// DMGlobalToLocal (INSERT_VALUES) and DMLocalToGlobal (INSERT_VALUES or ADD_VALUES) of the
+// model's DM; on one rank whose local vectors are the global ones, a copy (a sum for
+// ADD_VALUES): no section SF is made. Collective on more ranks.
 PetscErrorCode DeformableGlobalToLocal(FDEMDeformable d, Vec g, Vec l);
 PetscErrorCode DeformableLocalToGlobal(FDEMDeformable d, Vec l, InsertMode mode, Vec g);
 // Whether the mesh has fracture joints (the same on every rank).
