@@ -231,26 +231,14 @@ PetscErrorCode Engine::ListAll() {
   }
   prim_.clear();
   prim_.reserve((size_t)nl_ + nl_ / 2); // (room for the adapters after the first to append to, as the last listing needed)
-  PetscReal size_sum = 0;
-  PetscInt  size_count = 0;
   for (size_t k = 0; k < adapters_.size(); ++k) {
-    PetscReal s = 0;
-    PetscInt  n = 0;
     PetscCall(adapters_[k]->List(prim_)); // (a mesh lists thousands of records: copied once, into the kept array)
     for (size_t i = first_[k]; i < prim_.size(); ++i) prim_[i].kind = (std::int32_t)k;
     first_[k + 1] = (int)prim_.size();
-    if (par_.buffer < 0) {
-      PetscCall(adapters_[k]->BufferProposal(&s, &n));
-      size_sum += s;
-      size_count += n;
-    }
   }
   nl_ = (int)prim_.size();
   x_.resize(nl_);
   f_.resize(nl_);
-  PetscInt np = 0; // (the idle ones are not in contact)
-  for (const auto &q : prim_) np += q.idle ? 0 : 1;
-  PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
   {
     PetscBool mine[2] = {PETSC_FALSE, PETSC_FALSE}, any[2]; // a sphere, another shape
     for (const auto &q : prim_) mine[q.shape == kSphere ? 0 : 1] = PETSC_TRUE;
@@ -258,17 +246,35 @@ PetscErrorCode Engine::ListAll() {
     spheres_     = any[0];
     sphere_only_ = any[0] && !any[1];
   }
-  if (par_.buffer < 0) { // automatic: the mean of the adapters' proposals
-    PetscReal g;
-    PetscInt  gn;
-    PetscCallMPI(MPI_Allreduce(&size_sum, &g, 1, MPIU_REAL, MPI_SUM, comm_));
-    PetscCallMPI(MPI_Allreduce(&size_count, &gn, 1, MPIU_INT, MPI_SUM, comm_));
-    stats_.buffer = gn > 0 ? g / (PetscReal)gn : 0;
-  } else stats_.buffer = par_.buffer;
+  PetscCall(Tally());
   listed_   = true;
   holders_valid_ = false; // the primitives are numbered anew: sweep every sphere's slots at the next evaluation
   searched_ = false;
   PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// Of a listing: the primitives in contact (the idle ones are not) and the automatic buffer, the
+// mean of the adapters' proposals (summed in the adapters' order). Collective.
+PetscErrorCode Engine::Tally() {
+  PetscInt np = 0;
+  PetscFunctionBegin;
+  for (const auto &q : prim_) np += q.idle ? 0 : 1;
+  PetscCallMPI(MPI_Allreduce(&np, &stats_.primitives, 1, MPIU_INT, MPI_SUM, comm_));
+  if (par_.buffer < 0) { // automatic
+    PetscReal sum = 0, g;
+    PetscInt  count = 0, gn;
+    for (auto *a : adapters_) {
+      PetscReal s;
+      PetscInt  n;
+      PetscCall(a->BufferProposal(&s, &n));
+      sum += s;
+      count += n;
+    }
+    PetscCallMPI(MPI_Allreduce(&sum, &g, 1, MPIU_REAL, MPI_SUM, comm_));
+    PetscCallMPI(MPI_Allreduce(&count, &gn, 1, MPIU_INT, MPI_SUM, comm_));
+    stats_.buffer = gn > 0 ? g / (PetscReal)gn : 0;
+  } else stats_.buffer = par_.buffer;
   PetscFunctionReturn(0);
 }
 
@@ -656,8 +662,18 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
   int all;
   PetscCallMPI(MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_LAND, comm_));
   if (!all) PetscFunctionReturn(0);
-  PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   for (size_t i = 0; i < before.size(); ++i) prim_[i].margin = before[i].margin;
+  PetscCall(PairsFromKept());
+  *kept = true;
+  PetscFunctionReturn(0);
+}
+
+// The pairs of the kept search (kept_) for the records of the listing now: the ghosts get their
+// records again, and each candidate is paired unless a primitive is idle or its adapter does
+// not pair the two. Collective.
+PetscErrorCode Engine::PairsFromKept() {
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
   PetscCall(SendRecords());
   auto  &pairs = pairs_next_; // (swapped with pairs_ and sep_ below: the arrays are kept)
   auto  &sep   = sep_next_;
@@ -665,12 +681,19 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
   pairs.clear();
   sep.clear();
   fresh_.clear();
+  // what decides most candidates, per primitive in one compact array (the records are large, and
+  // kept_ holds every pair of neighbours within a fracturable body): idle, and the group (two
+  // primitives of one body with one group >= 0 are not paired, Primitive::group)
+  const int N = nl_ + ng_;
+  held_.resize(N);
+  for (int i = 0; i < N; ++i) held_[i] = P(i).idle ? kIdle : P(i).group;
   for (const auto &c : kept_) {
     const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
     const std::int8_t  s   = was ? sep_[j] : 0;
     if (was) ++j;
-    if (P(c[0]).idle || P(c[1]).idle) continue;
-    if (c[2] != 0 && !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1]))) continue;
+    const std::int64_t ga = held_[c[0]], gb = held_[c[1]];
+    if (ga == kIdle || gb == kIdle) continue;
+    if (c[2] != 0 && ((ga >= 0 && ga == gb) || !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1])))) continue;
     pairs.push_back({c[0], c[1]});
     sep.push_back(s);
     fresh_.push_back(was ? 0 : 1);
@@ -684,8 +707,27 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPIU_INT, MPI_SUM, comm_));
   stats_.candidate_pairs = glob;
   stats_.kept++;
-  *kept = true;
   PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+// A listing that fracture caused, without listing: where every adapter that changed kept its
+// primitives (Adapter::RefreshInPlace) on every rank, their changed records are written into
+// the listing as they are, and the search is kept (PairsFromKept). Otherwise (listed_ stays
+// false) a full listing follows, and KeepSearch compares it with the one before (a record written here
+// changes neither its identity nor its margin). Collective.
+PetscErrorCode Engine::RefreshListing() {
+  int mine = 1, all;
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
+  for (size_t k = 0; k < adapters_.size() && mine; ++k)
+    if (changed_[k]) mine = adapters_[k]->RefreshInPlace(prim_.data() + first_[k], (size_t)(first_[k + 1] - first_[k])) ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, comm_));
+  if (all) PetscCall(Tally());
+  PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
+  if (!all) PetscFunctionReturn(0);
+  listed_ = true;
+  PetscCall(PairsFromKept());
   PetscFunctionReturn(0);
 }
 
@@ -826,13 +868,16 @@ PetscErrorCode Engine::Evaluate() {
       }));
     }
   }
-  for (auto *a : adapters_) {
+  const bool was_listed = listed_;
+  changed_.assign(adapters_.size(), 0);
+  for (size_t k = 0; k < adapters_.size(); ++k) {
     PetscBool changed;
-    PetscCall(a->Changed(&changed));
-    if (changed && !changer) changer = a;
-    if (changed) listed_ = false;
+    PetscCall(adapters_[k]->Changed(&changed));
+    if (changed && !changer) changer = adapters_[k];
+    if (changed) listed_ = false, changed_[k] = 1;
   }
   pending = pending && changer != nullptr; // (the same on every rank)
+  if (!listed_ && was_listed && searched_ && Keepable()) PetscCall(RefreshListing()); // (listed_ if it could)
   if (!listed_) {
     const bool searched = searched_;
     // the listing before, for KeepSearch (the two arrays swap: neither is copied nor allocated again)

@@ -141,6 +141,14 @@ public:
     *changed = PETSC_FALSE;
     return 0;
   }
+  // After Changed() reported a change: if the adapter lists the same primitives as before, in
+  // the same order (n of them; only their records changed), writes the records that changed
+  // into its part of the engine's listing, mine (kind and margin are the engine's: kept), and
+  // says true; false: the engine lists every adapter again.
+  virtual bool RefreshInPlace(Primitive *mine, size_t n) {
+    (void)mine, (void)n;
+    return false;
+  }
   // May Changed() report a change during a run (a mesh with fracture joints)? The engine then
   // keeps what a listing with the same primitives needs to keep its search (KeepSearch).
   virtual bool Relists() const { return false; }
@@ -302,6 +310,9 @@ private:
   PetscErrorCode PairsListed();
   bool           Keepable() const;
   PetscErrorCode KeepSearch(const std::vector<Primitive> &before, bool *kept);
+  PetscErrorCode PairsFromKept();
+  PetscErrorCode RefreshListing();
+  PetscErrorCode Tally();
   PetscErrorCode UpdateGhosts(bool x, bool v);
   PetscErrorCode UpdateSphereGhosts();
   // The pairs with a sphere (granular laws): sphere-sphere and sphere-surface.
@@ -339,6 +350,9 @@ private:
   // own primitives [0, nl_) then ghosts [nl_, nl_ + ng_)
   int                           nl_ = 0, ng_ = 0;
   std::vector<Primitive>        prim_, gprim_;
+  std::vector<char>             changed_;     // per adapter: changed at this evaluation (Evaluate)
+  static constexpr std::int64_t kIdle = -2;   // held_: an idle primitive
+  std::vector<std::int64_t>     held_;        // PairsFromKept's: per own and ghost primitive, kIdle or its group
   std::vector<Primitive>        prim_before_; // the listing before a listing that may keep the search (Evaluate, KeepSearch)
   std::vector<std::array<int, 2>> pairs_next_; // KeepSearch's pairs and axes, swapped with pairs_ and sep_
   std::vector<std::int8_t>        sep_next_;

@@ -93,9 +93,6 @@ PetscErrorCode MeshAdapter::Shares(const fdem::model::FractureTopology &t) {
 void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   const AllCells &A  = all_;
   const size_t    nc = A.body.size();
-  conn_.clear();
-  prims_.clear();
-  faces_.clear();
   // the cells taken and their surfaces first, so that the lists are allocated once; with
   // stable listings, a cell at a joint of a body whose joints are inserted during the run is
   // taken idle when nothing else takes it (a listing then changes at a rebuild, not each time
@@ -120,33 +117,70 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     const bool idle = !on && stable && frac && (t->cell_free[e] & 0x80);
     if (on || idle) taken.push_back({(PetscInt)e, surf, idle});
   }
+  // the same cells as the listing before (stable listings): their records are brought up to date
+  // in place, and the engine copies only those that changed (RefreshInPlace)
+  refreshed_.clear();
+  in_place_ = stable && taken.size() == cell_.size() && !prims_.empty();
+  for (size_t i = 0; in_place_ && i < taken.size(); ++i) in_place_ = std::get<0>(taken[i]) == cell_[i];
+  if (in_place_) {
+    for (size_t i = 0; i < taken.size(); ++i) {
+      const auto &[e, surf, idle] = taken[i];
+      const CellState s           = State(e, surf, idle, t);
+      if (s == state_[i]) continue;
+      state_[i] = s;
+      s.Apply(prims_[i]);
+      faces_[i] = surf;
+      refreshed_.push_back((int)i);
+    }
+    return;
+  }
+  conn_.clear();
+  prims_.clear();
+  faces_.clear();
+  state_.clear();
   conn_.reserve(taken.size());
   prims_.reserve(taken.size());
   faces_.reserve(taken.size());
   cell_.clear();
-  if (t) cell_.reserve(taken.size());
+  if (t) cell_.reserve(taken.size()), state_.reserve(taken.size());
   for (const auto &[e, surf, idle] : taken) {
-    const bool frac = t && t->fracturable[A.body[e]];
     static const Primitive blank; // (copied, then filled in place: value-initialising each one zeroed it first)
     prims_.push_back(blank);
     Primitive &p = prims_.back(); // (a selection is made each time joints soften or break)
     p.body = A.body[e];
     p.elem = A.gid[e];
     p.key  = A.gid[e];
-    p.surface = (std::int32_t)(surf & 0xF);
-    p.mat     = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
-    p.flags   = (frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0) | (frac && !(t->cell_free[e] & 0x40) ? 2 : 0);
-    // held by its fragment: an unsplit cell, or a split one none of whose joints is damaged
-    // (with the damaged cells in contact): SelfPair
-    const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
-    p.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
-    p.idle          = idle ? 1 : 0;
-    for (int k = 0; k < 4; ++k) p.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
-    if (frac && !share_.empty()) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
+    p.mat  = p.body < (PetscInt)gmat_.size() ? gmat_[p.body] : -1;
+    const CellState s = State(e, surf, idle, t);
+    s.Apply(p);
+    if (t && t->fracturable[A.body[e]] && !share_.empty()) std::copy(share_.begin() + 10 * e, share_.begin() + 10 * (e + 1), p.share);
     conn_.push_back({A.conn[4 * e], A.conn[4 * e + 1], A.conn[4 * e + 2], A.conn[4 * e + 3]});
-    if (t) cell_.push_back(e);
+    if (t) cell_.push_back(e), state_.push_back(s);
     faces_.push_back(surf);
   }
+}
+
+// What fracture changes in the record of local cell e, taken with surface surf (idle: listed,
+// in no pair), by topology t.
+MeshAdapter::CellState MeshAdapter::State(PetscInt e, char surf, bool idle, const fdem::model::FractureTopology *t) const {
+  const AllCells &A    = all_;
+  const bool      frac = t && t->fracturable[A.body[e]];
+  CellState       s;
+  s.surface = (std::int32_t)(surf & 0xF);
+  s.flags   = (frac && damaged_cells_ && (t->cell_free[e] & 0x20) ? 1 : 0) | (frac && !(t->cell_free[e] & 0x40) ? 2 : 0);
+  // held by its fragment: an unsplit cell, or a split one none of whose joints is damaged
+  // (with the damaged cells in contact): SelfPair
+  const bool held = frac && ((t->cell_free[e] & 0x40) || (damaged_cells_ && !(t->cell_free[e] & 0x20)));
+  s.group         = held ? (std::int64_t)t->cell_fragment[e] : -1;
+  s.idle          = idle ? 1 : 0;
+  for (int k = 0; k < 4; ++k) s.node[k] = frac ? t->cell_key[4 * e + k] : A.ngid[A.conn[4 * e + k]];
+  return s;
+}
+
+bool MeshAdapter::RefreshInPlace(Primitive *mine, size_t n) {
+  if (!in_place_ || n != prims_.size()) return false;
+  for (int i : refreshed_) state_[i].Apply(mine[i]);
+  return true;
 }
 
 bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {

@@ -50,6 +50,9 @@ public:
   PetscErrorCode Pending(PetscBool *pending) override;
   bool           SurfacePending() const override { return surface_pending_; }
   bool           Relists() const override { return fractured_; }
+  // After a Changed() that kept the cells (stable listings: the cells at joints are listed idle):
+  // the records that changed, in place.
+  bool           RefreshInPlace(Primitive *mine, size_t n) override;
   void           OnsetEnergy(PetscReal e) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
@@ -72,6 +75,23 @@ private:
   // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
   // topology (null when the mesh has no joints).
   void Select(const fdem::model::FractureTopology *t);
+  // What the fracture topology decides in a listed cell's record (Select)
+  struct CellState {
+    PetscInt     node[4];
+    std::int64_t group;
+    std::int32_t surface, flags, idle;
+    bool         operator==(const CellState &o) const {
+      return node[0] == o.node[0] && node[1] == o.node[1] && node[2] == o.node[2] && node[3] == o.node[3] && group == o.group && surface == o.surface && flags == o.flags && idle == o.idle;
+    }
+    void Apply(Primitive &p) const {
+      for (int k = 0; k < 4; ++k) p.node[k] = node[k];
+      p.group   = group;
+      p.surface = surface;
+      p.flags   = flags;
+      p.idle    = idle;
+    }
+  };
+  CellState State(PetscInt e, char surf, bool idle, const fdem::model::FractureTopology *t) const;
   PetscErrorCode Shares(const fdem::model::FractureTopology &t); // share_ from t
   struct AllCells { // every local cell, kept when the mesh has joints (the selection changes)
     std::vector<PetscInt> conn, body, gid, ngid;
@@ -99,6 +119,9 @@ private:
   std::vector<PetscScalar>             xref_;  // with joints: the local reference positions (BufferProposal)
   bool                                 diam_made_ = false; // xref_ and diam_ are made
   std::vector<std::tuple<PetscInt, char, bool>> taken_; // Select's scratch: the cells taken, their surfaces, idle
+  std::vector<CellState>               state_;     // with joints: per listed cell, what the topology decided in its record
+  bool                                 in_place_ = false; // the last Select kept the cells and changed the records refreshed_ in place
+  std::vector<int>                     refreshed_;
   std::vector<PetscReal>               body_force_;
   std::vector<PetscInt>                ref_node_; // the local nodes of the listed cells, each once, in order
   std::vector<PetscReal>               ref_x_;    // their positions at the last search (3 a node)
