@@ -406,8 +406,10 @@ static PetscErrorCode ExternalWork(Sim &s, PetscReal *W) {
 }
 
 PetscErrorCode SimBalance(Sim &s, Balance &b) {
-  PetscReal E[4];
+  PetscReal                  E[4];
+  FDEMDeformableContactStats dc{};
   PetscFunctionBeginUser;
+  if (s.dc) PetscCall(FDEMDeformableContactGetStats(s.dc, &dc));
   PetscCall(FDEMSceneGetInvariants(s.sc, s.U, b.t, b.P, b.L, E)); // also copies U into the models
   b.kinetic = E[0] + E[1];
   b.strain  = E[2];
@@ -419,9 +421,12 @@ PetscErrorCode SimBalance(Sim &s, Balance &b) {
     b.contact += st.energy;
   }
   if (s.dc) {
-    PetscReal e;
-    PetscCall(FDEMDeformableContactComputeEnergy(s.dc, nullptr, &e));
-    b.contact += e;
+    // the invariants evaluate the mesh's force hooks at U where the scene has rigid-deformable
+    // contact, and the deformable contact is one of them: its energy is that evaluation's
+    const PetscInt evaluations = dc.evaluations;
+    PetscCall(FDEMDeformableContactGetStats(s.dc, &dc));
+    if (dc.evaluations == evaluations) PetscCall(FDEMDeformableContactComputeEnergy(s.dc, nullptr, &dc.energy));
+    b.contact += dc.energy;
   }
   if (s.dfm) {
     PetscReal g, stored;
@@ -478,19 +483,22 @@ PetscErrorCode SimWriteOutput(Sim &s, const std::string &dir, PetscInt step, Pet
 
 
 namespace {
-// Scatter between a vector in the models' layout (local entries `local`, global index of each in
-// `index`) and the vector by id (`nat`, created here of global size N).
-PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const std::vector<PetscInt> &index, PetscInt N, Vec *nat, VecScatter *sc) {
+// Scatter between a vector in the models' layout, `width` entries per item (local item i's id
+// ids[i]), and the vector by id (`nat`, created here of global size width N: item id's entries
+// at width id, ..., width id + width - 1).
+PetscErrorCode ByIdScatter(MPI_Comm comm, Vec local, const PetscInt *ids, PetscInt n, PetscInt width, PetscInt N, Vec *nat, VecScatter *sc) {
   IS       from, to;
   PetscInt lo;
   PetscFunctionBeginUser;
-  PetscCall(VecCreateMPI(comm, PETSC_DECIDE, N, nat));
-  // the entries in the order of their ids, both sides (PETSc sorts the other side's otherwise)
-  std::vector<PetscInt> order(index.size()), sorted(index.size());
+  PetscCall(VecCreateMPI(comm, PETSC_DECIDE, width * N, nat));
+  // the entries in the order of their ids, both sides (PETSc sorts the other side's otherwise):
+  // the items sorted, each one's entries in turn
+  std::vector<PetscInt> item(n), order(width * n), sorted(width * n);
   PetscCall(VecGetOwnershipRange(local, &lo, nullptr));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) { return index[a] < index[b]; });
-  for (size_t i = 0; i < order.size(); ++i) sorted[i] = index[order[i]], order[i] += lo;
+  std::iota(item.begin(), item.end(), 0);
+  std::sort(item.begin(), item.end(), [&](PetscInt a, PetscInt b) { return ids[a] < ids[b]; });
+  for (PetscInt i = 0; i < n; ++i)
+    for (PetscInt k = 0; k < width; ++k) sorted[width * i + k] = width * ids[item[i]] + k, order[width * i + k] = lo + width * item[i] + k;
   PetscCall(ISCreateGeneral(comm, (PetscInt)order.size(), order.data(), PETSC_COPY_VALUES, &from));
   PetscCall(ISCreateGeneral(comm, (PetscInt)sorted.size(), sorted.data(), PETSC_COPY_VALUES, &to));
   PetscCall(VecScatterCreate(local, from, *nat, to, sc));
@@ -534,10 +542,7 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     PetscCall(FDEMDeformableGetPositions(s.dfm, &p.dx));
     PetscCall(FDEMDeformableGetVelocities(s.dfm, &p.dv));
     PetscCall(FDEMDeformableGetNodeIds(s.dfm, &n, &ids));
-    std::vector<PetscInt> index(3 * n);
-    for (PetscInt i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) index[3 * i + c] = 3 * ids[i] + c;
-    PetscCall(ByIdScatter(s.comm, p.dx, index, 3 * s.nnodes, &p.ndx, &p.sd));
+    PetscCall(ByIdScatter(s.comm, p.dx, ids, n, 3, s.nnodes, &p.ndx, &p.sd));
     PetscCall(VecDuplicate(p.ndx, &p.ndv));
     PetscCall(PetscObjectSetName((PetscObject)p.ndx, "mesh_x"));
     PetscCall(PetscObjectSetName((PetscObject)p.ndv, "mesh_v"));
@@ -552,11 +557,8 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     PetscCall(DMSwarmRestoreField(sw, "id", nullptr, nullptr, (void **)&id));
     // `width` numbers per body: the local vector (bodies in the swarm's order) and the one by id
     auto part = [&](PetscInt width, const char *name, Vec *local, Vec *nat, VecScatter *sc) -> PetscErrorCode {
-      std::vector<PetscInt> index(width * n);
-      for (PetscInt b = 0; b < n; ++b)
-        for (PetscInt k = 0; k < width; ++k) index[width * b + k] = width * ids[b] + k;
       PetscCall(VecCreateMPI(s.comm, width * n, PETSC_DETERMINE, local));
-      PetscCall(ByIdScatter(s.comm, *local, index, width * s.nrigid, nat, sc));
+      PetscCall(ByIdScatter(s.comm, *local, ids.data(), n, width, s.nrigid, nat, sc));
       PetscCall(PetscObjectSetName((PetscObject)*nat, name));
       return 0;
     };

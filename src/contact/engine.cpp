@@ -230,7 +230,9 @@ PetscErrorCode Engine::ListAll() {
     PetscCall(a->Changed(&changed));
   }
   prim_.clear();
-  prim_.reserve((size_t)nl_ + nl_ / 2); // (room for the adapters after the first to append to, as the last listing needed)
+  size_t room = 0; // (room for all, as the adapters know or the last listing needed: one allocation)
+  for (auto *a : adapters_) room += a->ListSize();
+  prim_.reserve(std::max(room + room / 8, (size_t)nl_ + nl_ / 2));
   for (size_t k = 0; k < adapters_.size(); ++k) {
     PetscCall(adapters_[k]->List(prim_)); // (a mesh lists thousands of records: copied once, into the kept array)
     for (size_t i = first_[k]; i < prim_.size(); ++i) prim_[i].kind = (std::int32_t)k;

@@ -98,6 +98,9 @@ public:
   // This rank's primitives, appended to prims (kind is set by the engine). Called at the first
   // evaluation after Engine::Reset(). Collective.
   virtual PetscErrorCode List(std::vector<Primitive> &prims) = 0;
+  // How many records the next List() appends, if known (0: not known): the engine makes room
+  // for all adapters' records at once, not as each appends.
+  virtual size_t ListSize() const { return 0; }
   // Current vertex positions x[i] and, when v is not null, velocities v[i] of the listed
   // primitives i in `which` (increasing; null: all). The engine asks for all positions at a
   // search and otherwise only for the primitives that take part in a pair or are ghosts.

@@ -433,7 +433,7 @@ PetscErrorCode MeshAdapter::BufferProposal(PetscReal *sum, PetscInt *count) {
   }
   if (cached)
     for (size_t i = 0; i < conn_.size(); ++i) {
-      if (prims_[i].idle) continue;
+      if (state_[i].idle) continue; // (prims_[i].idle, from the compact array: a listing made in place asks again)
       PetscReal &D = diam_[cell_[i]];
       if (D < 0) D = diameter(xref_.data(), conn_[i].data());
       ++*count;

@@ -33,6 +33,7 @@ public:
   // Without velocities: stop with an error (true) or take them as zero (false).
   void RequireVelocities(bool r) { require_v_ = r; }
   PetscErrorCode List(std::vector<Primitive> &prims) override;
+  size_t         ListSize() const override { return prims_.size(); }
   PetscErrorCode Gather(const std::vector<int> *which, Vertices *x, Vertices *v) override;
   PetscErrorCode Scatter(const std::vector<int> &which, const Vertices *x, const Vertices *f) override;
   PetscErrorCode MoveRatio(PetscReal *ratio) override;
