@@ -412,10 +412,12 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   std::vector<char> mat_inserts(d->materials.size(), 0);
   for (std::size_t b = 0; b < d->body_insertion.size(); ++b)
     if (d->body_insertion[b] > 0) mat_inserts[d->material_of_body[b]] = 1;
-  std::vector<double> &S = d->stress_scratch;
+  // (in blocks of a run: the stresses are read while still in the cache, and the scratch is small)
+  constexpr std::size_t kBlock = 1024;
+  std::vector<double>  &S      = d->stress_scratch;
   for (std::size_t e0 = 0; e0 < d->ed.size();) {
     std::size_t e1 = e0;
-    while (e1 < d->ed.size() && d->ed.elems[e1].material == d->ed.elems[e0].material) ++e1;
+    while (e1 < d->ed.size() && d->ed.elems[e1].material == d->ed.elems[e0].material && e1 - e0 < kBlock) ++e1;
     if (mat_inserts[d->ed.elems[e0].material]) {
       if (S.size() < 6 * (e1 - e0)) S.resize(6 * (e1 - e0));
       fdem::kernels::CellStresses(d->ed, xl, vl, S.data(), e0, e1);
