@@ -267,8 +267,8 @@ PetscErrorCode Engine::Tally() {
     PetscReal sum = 0, g;
     PetscInt  count = 0, gn;
     for (auto *a : adapters_) {
-      PetscReal s;
-      PetscInt  n;
+      PetscReal s = 0;
+      PetscInt  n = 0;
       PetscCall(a->BufferProposal(&s, &n));
       sum += s;
       count += n;
