@@ -42,6 +42,7 @@ typedef struct {
   PetscReal dt_ratio;        /* omega_c dt / K_crit of the automatic time-step check (0: not done) */
   PetscReal onset;           /* the overlap energy that listings caused by fracture added at their state, summed (doc/fracture.md, "The handover to contact") */
   PetscInt  kept;            /* listings caused by fracture that kept the last search (the same contact tetrahedra, only their records changed; doc/contact_engine.md) */
+  PetscInt  in_place;        /* of those, the listings made in place (only the changed records written; doc/contact_engine.md) */
 } FDEMContactStats;
 
 /* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve): a

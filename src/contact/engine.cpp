@@ -182,7 +182,7 @@ PetscErrorCode Engine::CheckPenaltySet() const {
 
 PetscErrorCode Engine::SetFromOptions() {
   PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
-  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE, ic = initial_check_ ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE, ks = keep_search_ ? PETSC_TRUE : PETSC_FALSE, ic = initial_check_ ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBegin;
   PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
   PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
@@ -192,9 +192,11 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md; 0: a search at every evaluation); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel; a pair's damping and friction then see the surface faces only)", "", so, &so, nullptr));
+  PetscCall(PetscOptionsBool("-fdem_contact_keep_search", "Where fracture lists the contact again with the same contact tetrahedra, keep the last search and write the changed records in place; false: list and search again (a check: the same answers to round-off, doc/contact_engine.md)", "", ks, &ks, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_initial_overlap_check", "Stop at the first evaluation when two bodies start interpenetrating deeply (a set-up error); false: a warning (the fdem driver's default when it restarts from a checkpoint, whose overlaps the run made)", "", ic, &ic, nullptr));
   PetscOptionsEnd();
   surface_only_  = so;
+  keep_search_   = ks;
   initial_check_ = ic;
   if (fp) PetscCall(SetPenalty(pen));
   PetscCall(SetDissipation(damp, mu, ct));
@@ -553,7 +555,7 @@ PetscErrorCode Engine::Search() {
         if (A.kind == B.kind && A.body == B.body) { // one body: only with self-contact, and never neighbours (a sphere is one primitive)
           const Adapter *ad = adapters_[A.kind];
           if (spheres || !((par_.self && ad->CanSelfContact()) || ad->AlwaysSelfContact(A.body))) continue;
-          itself = ad->SelfPair(A, B) ? 1 : 2;
+          itself = Paired(A, B) ? 1 : 2;
           if (itself == 2 && !keep) continue;
         }
         const bool idle = A.idle || B.idle; // not paired now, as itself == 2
@@ -650,7 +652,7 @@ PetscErrorCode Engine::PairsListed() {
 bool Engine::Keepable() const {
   bool relists = false;
   for (const auto *a : adapters_) relists = relists || a->Relists();
-  return relists && !spheres_ && !periodic_;
+  return keep_search_ && relists && !spheres_ && !periodic_;
 }
 
 PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *kept) {
@@ -695,7 +697,7 @@ PetscErrorCode Engine::PairsFromKept() {
     if (was) ++j;
     const std::int64_t ga = held_[c[0]], gb = held_[c[1]];
     if (ga == kIdle || gb == kIdle) continue;
-    if (c[2] != 0 && ((ga >= 0 && ga == gb) || !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1])))) continue;
+    if (c[2] != 0 && ((ga >= 0 && ga == gb) || !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1])))) continue; // (Paired, the group from held_)
     pairs.push_back({c[0], c[1]});
     sep.push_back(s);
     fresh_.push_back(was ? 0 : 1);
@@ -729,6 +731,7 @@ PetscErrorCode Engine::RefreshListing() {
   PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
   if (!all) PetscFunctionReturn(0);
   listed_ = true;
+  stats_.in_place++;
   PetscCall(PairsFromKept());
   PetscFunctionReturn(0);
 }

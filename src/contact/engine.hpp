@@ -56,7 +56,7 @@ struct Primitive {
   std::int32_t idle    = 0;  // 1: listed, but in no pair for now (its adapter lists it so that a listing that makes
                              // it take part keeps the search: the mesh adapter's cells at joints of a body whose
                              // joints are inserted during the run); searched and moved as any other
-  std::int64_t group   = -1; // the adapter's: two primitives of one body with one group >= 0 are not paired (the mesh
+  std::int64_t group   = -1; // set by the adapter; the engine pairs no two primitives of one body with one group >= 0, without asking SelfPair (the mesh
                              // adapter: an unsplit tetrahedron of a body with fracture zones, its fragment's id)
   float        share[10] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1}; // tetrahedron: the weight of a sphere's contact with its
                              // vertex o ([o]) or its edge ([4 + m], fdem::kernels::kTetEdges order): in a split cell of a
@@ -130,7 +130,8 @@ public:
     return false;
   }
   // Two primitives of one body that may self-contact: do they form a pair? Default: unless
-  // they share a node (node ids >= 0 equal). Called at a search, on the rank computing the pair.
+  // they share a node (node ids >= 0 equal). Called at a search or a kept listing, on the rank
+  // computing the pair, for two primitives not of one group (Primitive::group).
   virtual bool SelfPair(const Primitive &a, const Primitive &b) const {
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
@@ -312,6 +313,11 @@ private:
   PetscErrorCode SendRecords();
   PetscErrorCode PairsListed();
   bool           Keepable() const;
+  // Two primitives of one body that may self-contact: a pair unless they are of one group
+  // (Primitive::group, the engine's rule) or their adapter's SelfPair refuses them.
+  bool Paired(const Primitive &a, const Primitive &b) const {
+    return !(a.group >= 0 && a.group == b.group) && adapters_[a.kind]->SelfPair(a, b);
+  }
   PetscErrorCode KeepSearch(const std::vector<Primitive> &before, bool *kept);
   PetscErrorCode PairsFromKept();
   PetscErrorCode RefreshListing();
@@ -423,6 +429,7 @@ private:
   bool                          holders_valid_ = false; // false after a listing or a search: every own sphere is swept
   bool                          listed_ = false, searched_ = false, checked_initial_ = false, with_v_ = false;
   bool                          surface_only_ = false;
+  bool                          keep_search_  = true;  // false (-fdem_contact_keep_search 0): fracture's listings list and search again
   bool                          initial_check_ = true; // false: a deep initial overlap is a warning (a restart's state)
   PetscInt                      since_search_ = 0; // evaluations since the last search
   Stats                         stats_{};

@@ -184,14 +184,12 @@ bool MeshAdapter::RefreshInPlace(Primitive *mine, size_t n) {
 }
 
 bool MeshAdapter::SelfPair(const Primitive &a, const Primitive &b) const {
-  // Two tetrahedra of one fragment that are held in it (unsplit ones of a body with fracture
-  // zones, and split ones none of whose joints is damaged) are not paired, as in a body that is
-  // not fracturable: no crack lies between them (its faces are damaged joints, whose
-  // tetrahedra are paired), so they could meet only if the fragment folded onto itself, and
-  // self-contact is not on for bodies. The fragments of a body meet through cells of two
-  // fragments, and a crack's sides through its damaged cells. So an intact fracturable body
-  // costs the contact what the same body unsplit does.
-  if (a.group >= 0 && a.group == b.group) return false;
+  // (Two tetrahedra of one fragment that are held in it, unsplit ones of a body with fracture
+  // zones and split ones none of whose joints is damaged, carry the fragment's id as their
+  // group, and the engine pairs no two of one group (Primitive::group) without asking here: no
+  // crack lies between them, as in a body that is not fracturable. The fragments of a body
+  // meet through cells of two fragments, and a crack's sides through its damaged cells, so an
+  // intact fracturable body costs the contact what the same body unsplit does.)
   if (NeighbourPair(a, b)) return true;
   // the two sides of a broken joint (asked last: most pairs are decided above)
   const std::array<PetscInt, 2> k = {(PetscInt)std::min(a.key, b.key), (PetscInt)std::max(a.key, b.key)};

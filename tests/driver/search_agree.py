@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The contact search's re-search rule loses no contact: runs a scene as it is (a search only
 when some body moved more than its margin, from the bound of its move) and again with
-`-fdem_contact_buffer 0` (a search at every evaluation), and compares the final state of every
+`-fdem_contact_buffer 0 -fdem_contact_keep_search 0` (a search at every evaluation, and every
+listing that fracture causes made whole), and compares the final state of every
 body (DIR/bodies.csv): positions within TOL (m), velocities within 1000 TOL (m/s). A bound that
 undercounts a body's move finds a contact late and parts the runs far beyond round-off. At least
 MOVING bodies must move faster than 1 cm/s at the end (the collisions happened), and the first
@@ -10,7 +11,9 @@ fractures, both runs must break the same joints in the same steps (DIR/fracture.
 same fragments (DIR/fragments.csv: ids and element counts, centres within TOL, velocities within
 1000 TOL), and with
 --kept the first run must have kept its search at some listing where joints broke or softened
-(Engine::KeepSearch), so that the kept candidates are what is compared.
+(Engine::KeepSearch) and made some of those listings in place (Engine::RefreshListing: only the
+changed records written), so that the kept candidates and the records written in place are what
+is compared; the second run keeps none.
 
   search_agree.py FDEM SCENE TOL MOVING [--kept] [--ranks MPIEXEC N] [driver options...]
 """
@@ -33,8 +36,8 @@ while more and more[0] in ("--kept", "--ranks"):
     else:
         launch, more = [more[1], "-n", more[2]], more[3:]
 root = scratch_dir("fdem_search_")
-rows, searches, breaks, kept, pieces = {}, {}, {}, {}, {}
-for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer", "0"])):
+rows, searches, breaks, kept, in_place, pieces = {}, {}, {}, {}, {}, {}
+for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer", "0", "-fdem_contact_keep_search", "0"])):
     out = os.path.join(root, name.replace(" ", "_"))
     cmd = launch + [fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + opts + more
     print("$ " + " ".join(cmd), flush=True)
@@ -46,7 +49,9 @@ for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer"
     if not m:
         sys.exit(f"FAIL: no contact statistics line ({name})")
     searches[name] = (int(m.group(1)), int(m.group(2)))
-    kept[name] = sum(int(k) for k in re.findall(r"contact \([a-z-]+\): (\d+) listings where joints broke", r.stdout))
+    lines = re.findall(r"contact \([a-z-]+\): (\d+) listings where joints broke.*, (\d+) of them made in place", r.stdout)
+    kept[name] = sum(int(k) for k, _ in lines)
+    in_place[name] = sum(int(m) for _, m in lines)
     with open(os.path.join(out, "bodies.csv")) as f:
         rows[name] = list(csv.reader(f))
     if os.path.exists(os.path.join(out, "fracture.csv")):
@@ -83,9 +88,13 @@ if pieces:
         if dx > tol or dv > 1000 * tol:
             fail.append(f"the fragments part: centres {dx:.3e} m, velocities {dv:.3e} m/s")
 if want_kept:
-    print(f"listings that kept the search: {kept['margins']}")
+    print(f"listings that kept the search: {kept['margins']}, {in_place['margins']} of them made in place")
     if kept["margins"] == 0:
         fail.append("no listing kept the search: the kept candidates are not tested")
+    if in_place["margins"] == 0:
+        fail.append("no listing was made in place: the records written in place are not tested")
+    if kept["every evaluation"] != 0:
+        fail.append(f"-fdem_contact_keep_search 0 kept the search at {kept['every evaluation']} listings")
 for f in fail:
     print("FAIL " + f)
 sys.exit(1 if fail else 0)
