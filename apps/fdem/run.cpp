@@ -423,6 +423,13 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   if (s.njoints > 0) std::snprintf(wj, sizeof wj, ", joints %.4g /s", st.omega_joints);
   PetscCall(PetscPrintf(comm, "time step %.4g s (%s; stable limit K_crit/omega_max = %.4g s for -ts_type %s, K_crit = %.6g, omega elements %.4g /s, contact %.4g /s%s; limited by %s); end %.4g s\n", (double)dt, dt_from,
                         wmax > 0 ? st.kcrit / wmax : 0.0, scheme, st.kcrit, st.omega_elements, st.omega_contact, wj, st.limit.c_str(), (double)end));
+  // a step beyond the stable limit, given (the scene, -ts_dt or the checkpoint): an explicit
+  // scheme's error then grows without bound, which the balance check below stops once it shows
+  if (wmax > 0 && dt * wmax > st.kcrit * (1 + 1e-12)) {
+    const std::string from = dt != dt_chosen ? std::string("-ts_dt") : dt_restart > 0 ? std::string("the checkpoint ") + o.restart : sc.dt_where + ": time.dt";
+    PetscCall(PetscPrintf(comm, "WARNING %s: the time step %.4g s is %.3g times the stable limit K_crit/omega_max = %.4g s of -ts_type %s (limited by %s): beyond it the scheme is unstable wherever that frequency is reached (a run that gains energy stops, -fdem_balance_gain_limit); lower the step, or give time.dt: auto (the limit times time.safety)\n", from.c_str(), (double)dt,
+                          (double)(dt * wmax / st.kcrit), st.kcrit / wmax, scheme, st.limit.c_str()));
+  }
   const double steps_to_end = std::ceil(end / dt * (1 - 1e-12));
   PetscInt     max_steps;
   PetscBool    max_steps_set;
@@ -596,7 +603,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
               "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.0f%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
               "dt: auto bounds one contact of the stiffest kind; dense packs (a body pressed by several at once) and elongated bodies' rotation can be faster: lower time.safety or time.dt (-fdem_balance_gain_limit %g stops at this fraction; 0 never stops).",
-              sc.file.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit);
+              sc.dt_where.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit);
     }
     if (write && !platens.empty()) { // the force on each platen at the segment's last evaluation (collective)
       std::vector<PetscReal> F(3 * platens.size());

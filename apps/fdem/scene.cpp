@@ -456,6 +456,7 @@ Scene ReadScene(const std::string &file, const char *text) {
   const YAML::Node time = r.Required(root, "time", "scene");
   r.Keys(time, "time", kTime);
   sc.time_where = r.At(time);
+  sc.dt_where   = time["dt"] ? r.At(time["dt"]) : sc.time_where;
   sc.end        = r.Real(r.Required(time, "end", "time"), "time.end");
   if (!(sc.end > 0)) r.Fail(time["end"], "time.end: must be positive, got " + time["end"].Scalar());
   if (time["dt"]) {

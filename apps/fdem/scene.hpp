@@ -131,6 +131,7 @@ struct Scene {
   double                end = 0, dt = -1, safety = 0.5; // dt < 0: auto
   std::string           scheme = "cd";
   Where                 time_where, scheme_where;
+  Where                 dt_where; // time.dt's place (time:'s when the step is auto)
   std::vector<Material> materials;
   Contact               contact;
   Periodic              periodic;
