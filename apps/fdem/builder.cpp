@@ -99,6 +99,22 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
     g.rolling_friction = m.rolling_friction;
     PetscCall(FDEMRigidAddGranularMaterial(s.rb, m.name.c_str(), &g, nullptr));
   }
+  if (!sc.contact.present && spheres > 0) {
+    // the spheres bring the rigid bodies' contact, and with it the potential contact force
+    // between polyhedral bodies, which needs a penalty: a moving polyhedral body and another
+    // polyhedral body (not both held) form such pairs (without spheres and without contact:,
+    // polyhedra do not touch)
+    const Body *mover = nullptr, *other = nullptr;
+    for (int i : s.rigid_bodies) {
+      const Body &b = sc.bodies[i];
+      if (b.Granular()) continue;
+      if (!mover && !b.fixed && !b.moved) mover = &b;
+      else if (!other) other = &b;
+    }
+    PetscCheck(!(mover && other), s.comm, PETSC_ERR_USER_INPUT,
+               "%s: body '%s' is a moving rigid body with a polyhedral shape, and it meets body '%s' (%s) through the potential contact force between tetrahedra, which needs a penalty: give contact: {penalty: Pa} (the spheres' granular laws act on pairs with a sphere only)",
+               mover ? mover->where.c_str() : "", mover ? mover->name.c_str() : "", other ? other->name.c_str() : "", other ? other->where.c_str() : "");
+  }
   if ((sc.contact.present || spheres > 0) && s.rigid_bodies.size() >= 2 && moving > 0) {
     PetscCall(FDEMContactCreate(s.rb, &s.rc));
     if (sc.contact.penalty > 0) PetscCall(FDEMContactSetPenalty(s.rc, sc.contact.penalty));

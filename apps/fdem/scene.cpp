@@ -67,7 +67,15 @@ public:
       const std::string k = it->first.Scalar();
       if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
         Fail(it->first, where + ": unknown key '" + k + "' (did you mean '" + Nearest(k, allowed) + "'? valid keys: " + Join(allowed) + ")");
+      Unique(n, it, where);
     }
+  }
+  // A map's key given twice (YAML forbids it; the parser keeps the first silently): an error at
+  // the second, naming the first.
+  template <class Map, class It> void Unique(Map &n, It at, const std::string &where) const {
+    const std::string k = at->first.Scalar();
+    for (auto it = n.begin(); it != at; ++it)
+      if (it->first.Scalar() == k) Fail(at->first, where + ": key '" + k + "' given twice (first at " + At(it->first) + ")");
   }
   const YAML::Node Required(const YAML::Node &map, const std::string &key, const std::string &where) const {
     const YAML::Node v = map[key];
@@ -477,7 +485,10 @@ Scene ReadScene(const std::string &file, const char *text) {
   if (root["materials"]) {
     const YAML::Node ms = root["materials"];
     if (!ms.IsMap()) r.Fail(ms, "materials: expected a map name: {density: ..., young: ..., poisson: ...}" + Reader::Got(ms));
-    for (auto it = ms.begin(); it != ms.end(); ++it) sc.materials.push_back(ReadMaterial(r, it->first.Scalar(), it->second));
+    for (auto it = ms.begin(); it != ms.end(); ++it) {
+      r.Unique(ms, it, "materials");
+      sc.materials.push_back(ReadMaterial(r, it->first.Scalar(), it->second));
+    }
   }
   if (root["contact"]) {
     const YAML::Node c = root["contact"];
