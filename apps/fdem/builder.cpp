@@ -354,11 +354,21 @@ PetscErrorCode SimEndTS(Sim &s) {
   PetscFunctionReturn(0);
 }
 
-// Rigid bodies migrate between segments on every number of ranks (on one it moves nothing):
-// a segment ends its TS and the next starts with a fresh force evaluation, which with damping
-// or friction (forces that depend on velocities) is not the force the running TS would have
-// reused, so 1 and 2 ranks agree only if both end their segments at the same steps.
+// Rigid bodies migrate wherever the scene is built again (a restart, joints inserted), and at
+// the end of an output segment when SimMigrationDue says so.
 PetscBool SimNeedsMigration(const Sim &s) { return s.rb ? PETSC_TRUE : PETSC_FALSE; }
+
+// At the end of an output segment (after SimRestore): a migration is due when a rigid body has
+// moved farther than its radius since the last (FDEMRigidMigrationNeeded), decided alike on every
+// number of ranks. A migration ends the TS, and the next starts with a fresh force evaluation,
+// which with damping or friction (forces that depend on velocities) is not the force the running
+// TS would have reused: 1 and 2 ranks agree only if both end their TS at the same steps.
+PetscErrorCode SimMigrationDue(Sim &s, PetscBool *due) {
+  PetscFunctionBeginUser;
+  *due = PETSC_FALSE;
+  if (s.rb) PetscCall(FDEMRigidMigrationNeeded(s.rb, due));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode SimMigrate(Sim &s) {
   PetscFunctionBeginUser;

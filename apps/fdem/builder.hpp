@@ -63,6 +63,7 @@ PetscErrorCode SimRestore(Sim &sim);
 // Sends rigid bodies to the ranks whose slabs hold them (between TS segments); *needed: whether a new TS is needed after it.
 PetscErrorCode SimMigrate(Sim &sim);
 PetscBool      SimNeedsMigration(const Sim &sim);
+PetscErrorCode SimMigrationDue(Sim &sim, PetscBool *due); // at a segment's end, after SimRestore
 // Stable time step of the scene for `scheme` after SimSetUpTS (safety * K_crit / omega_max).
 PetscErrorCode SimStableStep(Sim &sim, const char *scheme, PetscReal safety, StableStep &st);
 // Energy and momentum balance at the TS state (collective; b.t must be set).

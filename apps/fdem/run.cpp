@@ -631,12 +631,17 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
         PetscCall(ConfigureTS(s, dt, end));
         PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
       }
-    } else if (SimNeedsMigration(s) && !last) {
-      PetscCall(SimEndTS(s));
-      PetscCall(SimMigrate(s));
-      PetscCall(SimSetUpTS(s, scheme, t, step));
-      PetscCall(ConfigureTS(s, dt, end));
-      PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+    } else if (!last && SimNeedsMigration(s)) { // the TS goes on unless a rigid body has moved far enough
+      PetscBool due;
+      PetscCall(SimRestore(s));
+      PetscCall(SimMigrationDue(s, &due));
+      if (due) {
+        PetscCall(SimEndTS(s));
+        PetscCall(SimMigrate(s));
+        PetscCall(SimSetUpTS(s, scheme, t, step));
+        PetscCall(ConfigureTS(s, dt, end));
+        PetscCall(TSMonitorSet(s.ts, ProgressMonitor, &prog, nullptr));
+      }
     }
   }
   PetscCall(PetscTime(&w1));

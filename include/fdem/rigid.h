@@ -121,6 +121,11 @@ PETSC_EXTERN PetscErrorCode FDEMRigidRestoreState(FDEMRigid rb, Vec U);
    their contact primitives and pairs (doc/rigid.md, "Parallel") and sends every body to its
    part's rank (DMSwarmMigrate). Collective. */
 PETSC_EXTERN PetscErrorCode FDEMRigidMigrate(FDEMRigid rb);
+/* Whether a migration is due: some body has moved farther than its radius since the last
+   FDEMRigidMigrate, or a centre has left a periodic cell. Decided from the positions alone, so
+   that every number of ranks decides alike; a caller that migrates only then keeps its TS running
+   in between (the driver does, at the end of each output segment). Collective. */
+PETSC_EXTERN PetscErrorCode FDEMRigidMigrationNeeded(FDEMRigid rb, PetscBool *needed);
 /* With -fdem_rigid_partition_timed: the costs the last partition weighed the bodies by, CPU
    seconds over the segment before it summed over the ranks, per contact primitive and per
    contact pair a body took part in (0 before the first measurement; either may be NULL). */

@@ -260,6 +260,10 @@ PetscErrorCode AddLocal(FDEMRigid rb, PetscInt skin, PetscReal mass, const Vec3 
   PetscCall(DMSwarmGetField(rb->sw, "image", nullptr, nullptr, (void **)&image));
   for (int k = 0; k < 3; ++k) image[3 * b + k] = 0;
   PetscCall(DMSwarmRestoreField(rb->sw, "image", nullptr, nullptr, (void **)&image));
+  PetscReal *x0;
+  PetscCall(DMSwarmGetField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
+  for (int k = 0; k < 3; ++k) x0[3 * b + k] = x[k];
+  PetscCall(DMSwarmRestoreField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
   PetscReal *work;
   PetscCall(DMSwarmGetField(rb->sw, "work", nullptr, nullptr, (void **)&work));
   work[b] = 0;
@@ -295,6 +299,7 @@ PetscErrorCode FDEMRigidCreate(MPI_Comm comm, FDEMRigid *out) {
   PetscCall(DMSwarmRegisterUserStructField(rb->sw, "history", fdem::model::kHistoryBytes));
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "image", 3, PETSC_INT)); // periods crossed (FDEMRigidSetPeriodic)
   PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "work", 1, PETSC_REAL));  // contact pairs at the last search (the partition's weight; 0: not measured)
+  PetscCall(DMSwarmRegisterPetscDatatypeField(rb->sw, "x_migrated", 3, PETSC_REAL)); // the centre at the last migration (FDEMRigidMigrationNeeded; not in checkpoints: a restart migrates)
   PetscCall(DMSwarmFinalizeFieldRegister(rb->sw));
   PetscCall(DMSwarmSetLocalSizes(rb->sw, 0, 16));
   *out = rb;
@@ -836,7 +841,7 @@ static PetscErrorCode SortLocalById(FDEMRigid rb) {
   PetscCall(DMSwarmRestoreField(rb->sw, "id", nullptr, nullptr, (void **)&id));
   if (sorted) PetscFunctionReturn(0);
   // every field, its bytes per body from its block size and type (the spring slots are raw bytes)
-  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", "image", "work", DMSwarmField_pid, DMSwarmField_rank};
+  const char *const names[] = {"x", "R", "v", "H", "mass", "inertia", "radius", "id", "skin", "fixed", "history", "image", "work", "x_migrated", DMSwarmField_pid, DMSwarmField_rank};
   std::vector<char> tmp;
   for (const char *name : names) {
     char         *data;
@@ -901,12 +906,57 @@ PetscErrorCode FDEMRigidGetPeriodic(FDEMRigid rb, PetscBool periodic[3], PetscRe
   PetscFunctionReturn(0);
 }
 
+// A migration is due when some body has moved farther than its own radius since the last one, or
+// a centre has left the periodic cell: decided from the bodies' positions alone, so that every
+// number of ranks decides alike (a migration ends the caller's TS, and a new TS starts with a
+// fresh force evaluation: 1 and 2 ranks agree only if both do it at the same steps).
+PetscErrorCode FDEMRigidMigrationNeeded(FDEMRigid rb, PetscBool *needed) {
+  PetscInt         n;
+  const PetscReal *x, *x0, *r;
+  PetscBool        mine = PETSC_FALSE;
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscCall(DMSwarmGetField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
+  PetscCall(DMSwarmGetField(rb->sw, "radius", nullptr, nullptr, (void **)&r));
+  for (PetscInt b = 0; b < n && !mine; ++b) {
+    PetscReal d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      d2 += (x[3 * b + k] - x0[3 * b + k]) * (x[3 * b + k] - x0[3 * b + k]);
+      if (rb->periodic[k] && !(x[3 * b + k] >= rb->lo[k] && x[3 * b + k] < rb->hi[k])) mine = PETSC_TRUE;
+    }
+    if (!(d2 <= r[b] * r[b])) mine = PETSC_TRUE;
+  }
+  PetscCall(DMSwarmRestoreField(rb->sw, "radius", nullptr, nullptr, (void **)&r));
+  PetscCall(DMSwarmRestoreField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
+  PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscCallMPI(MPI_Allreduce(&mine, needed, 1, MPIU_BOOL, MPI_LOR, rb->comm));
+  PetscFunctionReturn(0);
+}
+
+// The centres at this migration, from which FDEMRigidMigrationNeeded measures the bodies' motion.
+static PetscErrorCode MarkMigrated(FDEMRigid rb) {
+  PetscInt   n;
+  PetscReal *x, *x0;
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
+  PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscCall(DMSwarmGetField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
+  std::copy(x, x + 3 * n, x0);
+  PetscCall(DMSwarmRestoreField(rb->sw, "x_migrated", nullptr, nullptr, (void **)&x0));
+  PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscInt  n, *rk;
   PetscReal *x;
   PetscFunctionBegin;
   PetscCall(WrapPeriodic(rb));
-  if (rb->size == 1) PetscFunctionReturn(0);
+  if (rb->size == 1) {
+    PetscCall(MarkMigrated(rb));
+    PetscFunctionReturn(0);
+  }
   PetscCall(BalanceRcb(rb));
   PetscCall(DMSwarmGetLocalSize(rb->sw, &n));
   PetscCall(DMSwarmGetField(rb->sw, "x", nullptr, nullptr, (void **)&x));
@@ -916,6 +966,7 @@ PetscErrorCode FDEMRigidMigrate(FDEMRigid rb) {
   PetscCall(DMSwarmRestoreField(rb->sw, "x", nullptr, nullptr, (void **)&x));
   PetscCall(DMSwarmMigrate(rb->sw, PETSC_TRUE));
   PetscCall(SortLocalById(rb));
+  PetscCall(MarkMigrated(rb));
   rb->mesh_work.clear(); // indexed by the local bodies before the migration
   PetscFunctionReturn(0);
 }
