@@ -358,11 +358,8 @@ PetscErrorCode SimEndTS(Sim &s) {
 // the end of an output segment when SimMigrationDue says so.
 PetscBool SimNeedsMigration(const Sim &s) { return s.rb ? PETSC_TRUE : PETSC_FALSE; }
 
-// At the end of an output segment (after SimRestore): a migration is due when a rigid body has
-// moved farther than its radius since the last (FDEMRigidMigrationNeeded), decided alike on every
-// number of ranks. A migration ends the TS, and the next starts with a fresh force evaluation,
-// which with damping or friction (forces that depend on velocities) is not the force the running
-// TS would have reused: 1 and 2 ranks agree only if both end their TS at the same steps.
+// At the end of an output segment (after SimRestore): whether the rigid bodies are to migrate
+// there, ending the TS (FDEMRigidMigrationNeeded: the same steps on every number of ranks).
 PetscErrorCode SimMigrationDue(Sim &s, PetscBool *due) {
   PetscFunctionBeginUser;
   *due = PETSC_FALSE;

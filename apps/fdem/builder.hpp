@@ -60,7 +60,7 @@ PetscErrorCode SimSetUpTS(Sim &sim, const char *scheme, PetscReal t, PetscInt st
 PetscErrorCode SimEndTS(Sim &sim);
 // Copies sim.U into the models (keeps the TS).
 PetscErrorCode SimRestore(Sim &sim);
-// Sends rigid bodies to the ranks whose slabs hold them (between TS segments); *needed: whether a new TS is needed after it.
+// Sends rigid bodies to the ranks of a new partition (between TSs, after SimEndTS).
 PetscErrorCode SimMigrate(Sim &sim);
 PetscBool      SimNeedsMigration(const Sim &sim);
 PetscErrorCode SimMigrationDue(Sim &sim, PetscBool *due); // at a segment's end, after SimRestore
