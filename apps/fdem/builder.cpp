@@ -358,7 +358,7 @@ PetscErrorCode SimEndTS(Sim &s) {
 // the end of an output segment when SimMigrationDue says so.
 PetscBool SimNeedsMigration(const Sim &s) { return s.rb ? PETSC_TRUE : PETSC_FALSE; }
 
-// At the end of an output segment (after SimRestore): whether the rigid bodies are to migrate
+// At the end of an output segment (the models holding the TS's state: after SimBalance or SimRestore): whether the rigid bodies are to migrate
 // there, ending the TS (FDEMRigidMigrationNeeded: the same steps on every number of ranks).
 PetscErrorCode SimMigrationDue(Sim &s, PetscBool *due) {
   PetscFunctionBeginUser;

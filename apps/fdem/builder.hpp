@@ -63,7 +63,7 @@ PetscErrorCode SimRestore(Sim &sim);
 // Sends rigid bodies to the ranks of a new partition (between TSs, after SimEndTS).
 PetscErrorCode SimMigrate(Sim &sim);
 PetscBool      SimNeedsMigration(const Sim &sim);
-PetscErrorCode SimMigrationDue(Sim &sim, PetscBool *due); // at a segment's end, after SimRestore
+PetscErrorCode SimMigrationDue(Sim &sim, PetscBool *due); // at a segment's end, after SimBalance or SimRestore
 // Stable time step of the scene for `scheme` after SimSetUpTS (safety * K_crit / omega_max).
 PetscErrorCode SimStableStep(Sim &sim, const char *scheme, PetscReal safety, StableStep &st);
 // Energy and momentum balance at the TS state (collective; b.t must be set).

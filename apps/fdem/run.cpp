@@ -633,8 +633,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
       }
     } else if (!last && SimNeedsMigration(s)) { // the TS goes on unless a rigid body has moved far enough
       PetscBool due;
-      PetscCall(SimRestore(s));
-      PetscCall(SimMigrationDue(s, &due));
+      PetscCall(SimMigrationDue(s, &due)); // (SimBalance above copied the state into the models)
       if (due) {
         PetscCall(SimEndTS(s));
         PetscCall(SimMigrate(s));
