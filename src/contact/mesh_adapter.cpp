@@ -43,11 +43,11 @@ PetscErrorCode MeshAdapter::Create(FDEMDeformable d, Cells which, Pairs pairs, S
   A.surf = d->boundary_faces;
   if (which == Cells::BoundaryVertex) PetscCall(BoundaryNodes(d, A.conn, A.surf, nlocal, A.bnode));
   PetscCall(FDEMDeformableGetBodyName(d, 0, &m->nbodies_, nullptr));
+  PetscBool dc = PETSC_TRUE; // (read for every mesh, so that -help lists it whatever the scene)
+  PetscOptionsBegin(comm, nullptr, "fdem contact of fracturable bodies", "FDEMDeformableContact");
+  PetscCall(PetscOptionsBool("-fdem_joint_damaged_contact", "The tetrahedra at a joint that has softened (a point beyond its peak) take part in the deformable bodies' contact with themselves and each other, and so do neighbours by an edge or a vertex once a joint has softened (false: only once it has broken; cheaper, but a crack's sides that slide before it breaks meet deeply overlapped; doc/fracture.md). The contact with rigid bodies and spheres never needs them", "", dc, &dc, nullptr));
+  PetscOptionsEnd();
   if (joints) { // the cells of fracturable bodies are chosen by the fracture topology
-    PetscBool dc = PETSC_TRUE;
-    PetscOptionsBegin(comm, nullptr, "fdem contact of fracturable bodies", "FDEMDeformableContact");
-    PetscCall(PetscOptionsBool("-fdem_joint_damaged_contact", "The tetrahedra at a joint that has softened (a point beyond its peak) take part in the deformable bodies' contact with themselves and each other, and so do neighbours by an edge or a vertex once a joint has softened (false: only once it has broken; cheaper, but a crack's sides that slide before it breaks meet deeply overlapped; doc/fracture.md). The contact with rigid bodies and spheres never needs them", "", dc, &dc, nullptr));
-    PetscOptionsEnd();
     // an engine that pairs the mesh only with other kinds has no crack's sides to keep apart:
     // it lists the cells with a free face (or vertex), and lists again only where joints break
     m->damaged_cells_ = dc && pairs == Pairs::WithItself;
