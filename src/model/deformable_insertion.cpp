@@ -426,8 +426,11 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
         const PetscReal r = d->body_insertion[b];
         const double   *T = &S[6 * (e - e0)];
         if (r <= 0 || d->cell_inserted[e]) continue;
-        if (fdem::model::SurelyBelow(T, strength[b], r)) continue;
-        if (fdem::model::StrengthRatio(T, strength[b]) >= r) mine.push_back(d->cell_gid[e]);
+        const double ahead = r * (1 - d->insert_ahead);
+        if (fdem::model::SurelyBelow(T, strength[b], ahead)) continue;
+        const double q = fdem::model::StrengthRatio(T, strength[b]);
+        if (q >= r) mine.push_back(d->cell_gid[e]);
+        else if (q >= ahead) mine.push_back(-1 - d->cell_gid[e]); // (taken only if some cell reached r)
       }
     }
     e0 = e1;
@@ -435,7 +438,10 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   if (d->viscous) PetscCall(VecRestoreArrayRead(d->vloc, &vl));
   PetscCall(VecRestoreArrayRead(d->xloc, &xl));
   // to rank 0, which drops the split ones and adds their neighbours (the cells sharing a node
-  // with them) in the same bodies, so that a crack has room to run before the next insertion
+  // with them) in the same bodies, so that a crack has room to run before the next insertion.
+  // The cells ahead (-1 - id: at (1 - insert_ahead) of the ratio, below it) join when some cell
+  // reached the ratio: a rebuild costs about the same for a few cells more, and these would
+  // each ask for one of their own a few searches later
   const PetscMPIInt      cnt = (PetscMPIInt)mine.size();
   std::vector<PetscMPIInt> cnts(d->size), off(d->size + 1, 0);
   PetscCallMPI(MPI_Gather(&cnt, 1, MPI_INT, cnts.data(), 1, MPI_INT, 0, d->comm));
@@ -445,8 +451,9 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   if (d->rank == 0) {
     const auto      &M = d->insertion_input->mesh;
     std::vector<char> hot(M.nodes.size(), 0), take(M.tets.size(), 0);
-    for (PetscInt t : all)
-      if (!d->tet_split[t])
+    const bool reached = std::any_of(all.begin(), all.end(), [](PetscInt t) { return t >= 0; });
+    for (PetscInt c : all)
+      if (const PetscInt t = c >= 0 ? c : -1 - c; reached && !d->tet_split[t])
         for (int k : M.tets[t]) hot[k] = 1;
     for (std::size_t t = 0; t < M.tets.size(); ++t)
       if (!d->tet_split[t] && d->body_insertion[M.body[t]] > 0)

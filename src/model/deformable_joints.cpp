@@ -210,8 +210,10 @@ PetscErrorCode fdem::model::deformable::SetUpJoints(FDEMDeformable d) {
   PetscBool face = PETSC_TRUE; // the compression over the face (doc/fracture.md, "One joint element")
   PetscOptionsBegin(d->comm, nullptr, "fdem fracture joints", "FDEMDeformable");
   PetscCall(PetscOptionsBool("-fdem_insert_prestress", "Joints inserted during a run (insert_at) start with the forces their faces carried, balanced so that the copies of each node move together, and the insertion does not release the stress (false: they start unloaded; doc/fracture.md)", "FDEMDeformableSetFractureInsertion", prestress, &prestress, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_insert_ahead", "When a search for joints to insert during a run (insert_at) finds a tetrahedron at its stress ratio, the tetrahedra at (1 - this) of the ratio or above get joints in the same rebuild (0: only those at the ratio; doc/fracture.md)", "FDEMDeformableFindCellsToSplit", d->insert_ahead, &d->insert_ahead, nullptr));
   PetscCall(PetscOptionsBool("-fdem_joint_face_compression", "A joint's compression over the pressed part of its face, not only at its three points (false: at its three points only; doc/fracture.md)", "FDEMDeformableSetMaterialFracture", face, &face, nullptr));
   PetscOptionsEnd();
+  PetscCheck(d->insert_ahead >= 0 && d->insert_ahead < 1, d->comm, PETSC_ERR_USER_INPUT, "-fdem_insert_ahead %g: give a fraction in [0, 1)", (double)d->insert_ahead);
   d->prestress         = prestress;
   d->prestress_pending = false;
   d->jofs.clear();

@@ -13,7 +13,8 @@
 //  2. FDEMDeformableGetFractureCells gives B's cells; FDEMDeformableReadFractureCells gives
 //     A's from the file.
 //  3. FindCellsToSplit on A: at the reference state, none; stretched along x so that
-//     sigma_xx = 0.4 f_t, none; at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron.
+//     sigma_xx = 0.4 f_t, none (above the default look-ahead's 0.375, but cells ahead alone ask
+//     for no insertion); at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron.
 //  4. Errors: loading B's state into A (a checkpoint that split tetrahedra A keeps whole),
 //     a ratio of 1.5, a cell of a body without insertion, a cell outside the mesh.
 //  5. The criterion (StrengthRatio) on random stresses against eigenvalues by Jacobi

@@ -12,7 +12,12 @@ usage: insertion.py MPIEXEC NP FDEM SCENE PRESPLIT_SCENE
      insert_at restarted from it stops with an error that says why;
   3. the same restart on the other rank count (C): the same insertions, the same joints broken
      (in steps within 2 of A's: the bar is symmetric, and round-off decides between mirror
-     joints), the last row within 1e-3 of the largest value."""
+     joints), the last row within 1e-3 of the largest value.
+  A, B and C search without look-ahead (-fdem_insert_ahead 0), so that the bar, whose stress
+  is nearly uniform, is split in several insertions with a checkpoint between two of them;
+  4. the straight run D with the default look-ahead (the cells near the ratio join an
+     insertion that some cell asked for) inserts fewer times than A, with the peak pull and
+     the energy dissipated by the fracture within 2% of the bar split from the start."""
 import csv, os, re, subprocess, sys
 from scratch import scratch_dir
 
@@ -59,7 +64,8 @@ def last(out):
     return open(os.path.join(root, out, "balance.csv")).read().strip().split("\n")[-1]
 
 # 1. the straight run against the bar split from the start
-ta = run(np, "A", [])
+none = ["-fdem_insert_ahead", "0"] # (A, B, C: one insertion a cell reaching the ratio, with its neighbours)
+ta = run(np, "A", none)
 run(np, "S", [], presplit)
 ia = insertions(ta)
 check("the straight run inserts joints several times", len(ia) >= 3, f"{len(ia)} insertions: {ia}")
@@ -74,18 +80,18 @@ check("the bar breaks", len(breaks("A")) > 0, f"{len(breaks('A'))} joints broken
 # 2. a restart from a checkpoint between two insertions, on the same ranks
 import glob
 first = max(glob.glob(os.path.join(root, "A", "checkpoint.*.h5")), key=lambda f: int(f.split(".")[-2])) # the oldest kept
-tb = run(np, "B", ["-restart", first])
+tb = run(np, "B", none + ["-restart", first])
 after = [x for x in ia if x[0] > 0.0025]
 check("the restart makes the insertions the straight run made after 2.5 ms", insertions(tb) == after and len(after) >= 2, f"{insertions(tb)} against {after}")
 check("the restart breaks the same joints in the same steps", breaks("B") == breaks("A"), f"{len(breaks('B'))} breaks")
 check(f"the restart's last balance row equals the straight run's bitwise ({np} ranks)", last("A") == last("B"), f"\n  {last('A')}\n  {last('B')}")
 
 # a scene without insert_at cannot take that checkpoint: an error that says why
-code, text = run(np, "X", ["-restart", first], presplit, expect_ok=False)
+code, text = run(np, "X", none + ["-restart", first], presplit, expect_ok=False)
 check("restarting a scene without insert_at from it: an error naming the checkpoint", code != 0 and "inserted joints during the run" in text and "fracture.insert_at" in text, f"exit status {code}")
 
 # 3. the same restart on the other rank count
-tc = run(other, "C", ["-restart", first])
+tc = run(other, "C", none + ["-restart", first])
 check(f"on {other} ranks: the same insertions", [n for _, n in insertions(tc)] == [n for _, n in after], f"{insertions(tc)}")
 bc, ba = breaks("C"), breaks("A")
 same = sorted(j for _, j in bc) == sorted(j for _, j in ba)
@@ -94,4 +100,11 @@ check(f"on {other} ranks: the same joints break, in steps within 2 of the straig
 a, c = [float(x) for x in last("A").split(",")], [float(x) for x in last("C").split(",")]
 d = max(abs(x - y) for x, y in zip(a, c)) / max(abs(x) for x in a)
 check(f"on {other} ranks: last balance row within 1e-3 of the largest value", d <= 1e-3, f"{d:.3e}")
+
+# 4. the default look-ahead: fewer rebuilds, the same bar
+id_ = insertions(run(np, "D", []))
+check("with the look-ahead, fewer insertions", 1 <= len(id_) < len(ia), f"{len(id_)} against {len(ia)}: {id_}")
+pd, fd = peak_pull("D"), rows("D")[-1]["fracture"]
+check("with the look-ahead, peak pull within 2% of the bar split from the start", abs(pd - ps) <= 0.02 * ps, f"{pd:.5g} N against {ps:.5g} N")
+check("with the look-ahead, energy dissipated by the fracture within 2% of the bar split from the start", abs(fd - fs) <= 0.02 * fs, f"{fd:.5g} J against {fs:.5g} J")
 sys.exit(1 if fail else 0)
