@@ -105,8 +105,9 @@ PETSC_EXTERN PetscErrorCode FDEMDeformableAddFractureZone(FDEMDeformable dfm, co
    FindCellsToSplit (collective, after set-up) lists, the same on every rank, its whole
    tetrahedra whose Cauchy stress at U reaches r times the strength, max(sigma_1 / f_t,
    Mohr-Coulomb's (sigma_1 - sigma_3) / 2 over c cos(phi) - (sigma_1 + sigma_3) / 2 sin(phi)),
-   and, when some does, those that reach (1 - a) r (a: -fdem_insert_ahead, default 0.25; 0:
-   none), each with the whole tetrahedra that share a node with it; free *cells with PetscFree. The
+   and those that reach (1 - a) r linked to one of them by a chain of such tetrahedra sharing
+   nodes (a: -fdem_insert_ahead, default 0.25; 0: none), each with the whole tetrahedra that
+   share a node with it; free *cells with PetscFree. The
    caller then builds the model again with them added (the fdem driver does it between steps):
    LoadNodeVector and LoadJointState read a checkpoint written with fewer tetrahedra split
    into the larger split, each copy of a node taking the state of the node its tetrahedron

@@ -430,7 +430,7 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
         if (fdem::model::SurelyBelow(T, strength[b], ahead)) continue;
         const double q = fdem::model::StrengthRatio(T, strength[b]);
         if (q >= r) mine.push_back(d->cell_gid[e]);
-        else if (q >= ahead) mine.push_back(-1 - d->cell_gid[e]); // (taken only if some cell reached r)
+        else if (q >= ahead) mine.push_back(-1 - d->cell_gid[e]); // (taken only when linked to a cell at r)
       }
     }
     e0 = e1;
@@ -439,9 +439,9 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   PetscCall(VecRestoreArrayRead(d->xloc, &xl));
   // to rank 0, which drops the split ones and adds their neighbours (the cells sharing a node
   // with them) in the same bodies, so that a crack has room to run before the next insertion.
-  // The cells ahead (-1 - id: at (1 - insert_ahead) of the ratio, below it) join when some cell
-  // reached the ratio: a rebuild costs about the same for a few cells more, and these would
-  // each ask for one of their own a few searches later
+  // The cells ahead (-1 - id: at (1 - insert_ahead) of the ratio, below it) join when linked
+  // to a cell that reached it: a rebuild costs about the same for a few cells more, and these
+  // would each ask for one of their own a few searches later
   const PetscMPIInt      cnt = (PetscMPIInt)mine.size();
   std::vector<PetscMPIInt> cnts(d->size), off(d->size + 1, 0);
   PetscCallMPI(MPI_Gather(&cnt, 1, MPI_INT, cnts.data(), 1, MPI_INT, 0, d->comm));
@@ -451,10 +451,25 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
   if (d->rank == 0) {
     const auto      &M = d->insertion_input->mesh;
     std::vector<char> hot(M.nodes.size(), 0), take(M.tets.size(), 0);
-    const bool reached = std::any_of(all.begin(), all.end(), [](PetscInt t) { return t >= 0; });
+    // from the cells at the ratio, through chains of cells ahead that share a node: the region
+    // of high stress around each place the stress reached the ratio, not every cell ahead in
+    // the body (their nodes, hot, then bring their neighbours)
+    std::vector<PetscInt>                 queue;
+    std::vector<std::pair<int, PetscInt>> ahead; // (node, cell ahead), sorted by node
     for (PetscInt c : all)
-      if (const PetscInt t = c >= 0 ? c : -1 - c; reached && !d->tet_split[t])
-        for (int k : M.tets[t]) hot[k] = 1;
+      if (const PetscInt t = c >= 0 ? c : -1 - c; d->tet_split[t]) continue; // (split by a zone)
+      else if (c >= 0) queue.push_back(t);
+      else
+        for (int k : M.tets[t]) ahead.push_back({k, t});
+    std::sort(ahead.begin(), ahead.end());
+    std::vector<char> joined(M.tets.size(), 0);
+    for (std::size_t i = 0; i < queue.size(); ++i)
+      for (int k : M.tets[queue[i]]) {
+        if (hot[k]) continue;
+        hot[k] = 1;
+        for (auto it = std::lower_bound(ahead.begin(), ahead.end(), std::make_pair(k, (PetscInt)-1)); it != ahead.end() && it->first == k; ++it)
+          if (!joined[it->second]) joined[it->second] = 1, queue.push_back(it->second);
+      }
     for (std::size_t t = 0; t < M.tets.size(); ++t)
       if (!d->tet_split[t] && d->body_insertion[M.body[t]] > 0)
         for (int k : M.tets[t]) take[t] = take[t] || hot[k];

@@ -14,7 +14,9 @@
 //     A's from the file.
 //  3. FindCellsToSplit on A: at the reference state, none; stretched along x so that
 //     sigma_xx = 0.4 f_t, none (above the default look-ahead's 0.375, but cells ahead alone ask
-//     for no insertion); at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron.
+//     for no insertion); at 0.6 f_t (ratio 0.6 >= 0.5), every whole tetrahedron. Columns at
+//     0.6, 0.3 and 0.4 f_t: the first two (the third is ahead, but not linked to the first);
+//     at 0.6, 0.4 and 0.4: all three.
 //  4. Errors: loading B's state into A (a checkpoint that split tetrahedra A keeps whole),
 //     a ratio of 1.5, a cell of a body without insertion, a cell outside the mesh.
 //  5. The criterion (StrengthRatio) on random stresses against eigenvalues by Jacobi
@@ -208,6 +210,28 @@ PetscErrorCode ShearedForces(FDEMDeformable d, const char *file, PetscReal *fmax
 }
 
 // Sets A's stored positions to X stretched by (1 + e) along x.
+// Stretched along x by strain eps[k] in the k-th column of cubes (0.1 m wide; x of the
+// reference): the strain of each tetrahedron is its column's, exactly (its corners lie on the
+// column's two planes).
+PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps) {
+  Vec x, X;
+  PetscFunctionBeginUser;
+  PetscCall(FDEMDeformableGetPositions(d, &x));
+  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
+  PetscCall(VecCopy(X, x));
+  PetscScalar *a;
+  PetscInt     n;
+  PetscCall(VecGetLocalSize(x, &n));
+  PetscCall(VecGetArray(x, &a));
+  for (PetscInt i = 0; i < n; i += 3) {
+    double u = 0;
+    for (int k = 0; k < 6; ++k) u += eps[k] * std::clamp(a[i] - 0.1 * k, 0.0, 0.1);
+    a[i] += u;
+  }
+  PetscCall(VecRestoreArray(x, &a));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Stretch(FDEMDeformable d, double e) {
   Vec x, X;
   PetscFunctionBeginUser;
@@ -337,6 +361,23 @@ int main(int argc, char **argv) {
       PetscCall(PetscPrintf(PETSC_COMM_WORLD, "stretched to sigma_xx = %g f_t: %" PetscInt_FMT " cells to split\n", r, n));
       PetscCall(PetscFree(c));
     }
+    // the look-ahead: sigma_xx = 0.6, 0.3 and 0.4 f_t in the whole rock's three columns (x from
+    // 0.2 to 0.5): the first column reaches the ratio 0.5 and brings its neighbours (the second
+    // column); the third is ahead (0.4 >= 0.75 * 0.5) but linked to the first only through the
+    // second, which is not: it is left whole
+    PetscInt  n, *c;
+    PetscCall(StretchColumns(A, {0, 0, 0.6e-3, 0.3e-3, 0.4e-3, 0.4e-3}));
+    PetscCall(FDEMDeformableFindCellsToSplit(A, nullptr, &n, &c));
+    const std::vector<PetscInt> want = CellsBelow(M, 0.4, 0.2);
+    std::vector<PetscInt>       got(c, c + n);
+    std::sort(got.begin(), got.end());
+    CHECK(got == want, "one column at 0.6 f_t, the next at 0.3 and the last at 0.4: %" PetscInt_FMT " cells to split, expected the %zu of the first two columns", n, want.size());
+    PetscCall(PetscFree(c));
+    // ... and with the middle column at 0.4 too, the chain reaches the last: the whole rock
+    PetscCall(StretchColumns(A, {0, 0, 0.6e-3, 0.4e-3, 0.4e-3, 0.4e-3}));
+    PetscCall(FDEMDeformableFindCellsToSplit(A, nullptr, &n, &c));
+    CHECK(n == whole, "one column at 0.6 f_t, the next two at 0.4: %" PetscInt_FMT " cells to split, expected the whole rock's %" PetscInt_FMT, n, whole);
+    PetscCall(PetscFree(c));
   }
 
   // 4. errors

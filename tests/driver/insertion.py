@@ -15,8 +15,8 @@ usage: insertion.py MPIEXEC NP FDEM SCENE PRESPLIT_SCENE
      joints), the last row within 1e-3 of the largest value.
   A, B and C search without look-ahead (-fdem_insert_ahead 0), so that the bar, whose stress
   is nearly uniform, is split in several insertions with a checkpoint between two of them;
-  4. the straight run D with the default look-ahead (the cells near the ratio join an
-     insertion that some cell asked for) inserts fewer times than A, with the peak pull and
+  4. the straight run D with the default look-ahead (the cells near the ratio linked to one
+     at it join its insertion) inserts fewer times than A, with the peak pull and
      the energy dissipated by the fracture within 2% of the bar split from the start."""
 import csv, os, re, subprocess, sys
 from scratch import scratch_dir
