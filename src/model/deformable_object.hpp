@@ -194,7 +194,7 @@ struct _n_FDEMDeformable {
   bool                                    equilibrate_pending = false; // the same on every rank
   bool                                    prestress = true; // -fdem_insert_prestress: joints inserted under load start with their faces' forces
   bool                                    prestress_pending = false; // some joint is fresh (the same on every rank)
-  PetscReal                               insert_ahead = 0.25; // -fdem_insert_ahead: FindCellsToSplit takes the cells at (1 - this) of the ratio too when some cell reaches it
+  PetscReal                               insert_ahead = 0.25; // -fdem_insert_ahead: FindCellsToSplit also takes the cells at (1 - this) of the ratio linked to one at it
   std::vector<std::array<PetscInt, 4>>    jtet_b;         // their tetrahedra b: id, rank, local cell there, the node opposite the joint's face
   PetscSF                                 jfsf = nullptr; // 3 leaves per joint -> 3 roots per face of tetrahedron b (12 per local cell)
   fdem::model::FractureTopology           topology;       // the last DeformableFractureTopology, for its counts of broken and damaged joints (each set only grows while the joints step)

@@ -209,10 +209,9 @@ PetscErrorCode ShearedForces(FDEMDeformable d, const char *file, PetscReal *fmax
   PetscFunctionReturn(0);
 }
 
-// Sets A's stored positions to X stretched by (1 + e) along x.
-// Stretched along x by strain eps[k] in the k-th column of cubes (0.1 m wide; x of the
-// reference): the strain of each tetrahedron is its column's, exactly (its corners lie on the
-// column's two planes).
+// Sets d's stored positions to X stretched along x by strain eps[k] in the k-th column of
+// cubes (0.1 m wide, by x of the reference): each tetrahedron's strain is its column's,
+// exactly (its corners lie on the column's two planes).
 PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps) {
   Vec x, X;
   PetscFunctionBeginUser;
@@ -232,6 +231,7 @@ PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps
   PetscFunctionReturn(0);
 }
 
+// Sets A's stored positions to X stretched by (1 + e) along x.
 PetscErrorCode Stretch(FDEMDeformable d, double e) {
   Vec x, X;
   PetscFunctionBeginUser;
