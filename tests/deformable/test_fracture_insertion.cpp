@@ -209,10 +209,9 @@ PetscErrorCode ShearedForces(FDEMDeformable d, const char *file, PetscReal *fmax
   PetscFunctionReturn(0);
 }
 
-// Sets d's stored positions to X stretched along x by strain eps[k] in the k-th column of
-// cubes (0.1 m wide, by x of the reference): each tetrahedron's strain is its column's,
-// exactly (its corners lie on the column's two planes).
-PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps) {
+// Sets d's stored positions to its reference positions X with x replaced by f(x).
+template <class F>
+PetscErrorCode MoveAlongX(FDEMDeformable d, F f) {
   Vec x, X;
   PetscFunctionBeginUser;
   PetscCall(FDEMDeformableGetPositions(d, &x));
@@ -222,29 +221,25 @@ PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps
   PetscInt     n;
   PetscCall(VecGetLocalSize(x, &n));
   PetscCall(VecGetArray(x, &a));
-  for (PetscInt i = 0; i < n; i += 3) {
-    double u = 0;
-    for (int k = 0; k < 6; ++k) u += eps[k] * std::clamp(a[i] - 0.1 * k, 0.0, 0.1);
-    a[i] += u;
-  }
+  for (PetscInt i = 0; i < n; i += 3) a[i] = f(a[i]);
   PetscCall(VecRestoreArray(x, &a));
   PetscFunctionReturn(0);
 }
 
-// Sets A's stored positions to X stretched by (1 + e) along x.
+// Stretched along x by strain eps[k] in the k-th column of cubes (0.1 m wide, by x of the
+// reference): each tetrahedron's strain is its column's, exactly (its corners lie on the
+// column's two planes).
+PetscErrorCode StretchColumns(FDEMDeformable d, const std::array<double, 6> &eps) {
+  return MoveAlongX(d, [&](double X) {
+    double u = 0;
+    for (int k = 0; k < 6; ++k) u += eps[k] * std::clamp(X - 0.1 * k, 0.0, 0.1);
+    return X + u;
+  });
+}
+
+// Stretched by (1 + e) along x.
 PetscErrorCode Stretch(FDEMDeformable d, double e) {
-  Vec x, X;
-  PetscFunctionBeginUser;
-  PetscCall(FDEMDeformableGetPositions(d, &x));
-  PetscCall(FDEMDeformableGetReferencePositions(d, &X));
-  PetscCall(VecCopy(X, x));
-  PetscScalar *a;
-  PetscInt     n;
-  PetscCall(VecGetLocalSize(x, &n));
-  PetscCall(VecGetArray(x, &a));
-  for (PetscInt i = 0; i < n; i += 3) a[i] *= 1 + e;
-  PetscCall(VecRestoreArray(x, &a));
-  PetscFunctionReturn(0);
+  return MoveAlongX(d, [e](double X) { return X * (1 + e); });
 }
 } // namespace
 
