@@ -426,11 +426,11 @@ PetscErrorCode FDEMDeformableFindCellsToSplit(FDEMDeformable d, Vec U, PetscInt 
         const PetscReal r = d->body_insertion[b];
         const double   *T = &S[6 * (e - e0)];
         if (r <= 0 || d->cell_inserted[e]) continue;
-        const double ahead = r * (1 - d->insert_ahead);
-        if (fdem::model::SurelyBelow(T, strength[b], ahead)) continue;
+        const double r_ahead = r * (1 - d->insert_ahead);
+        if (fdem::model::SurelyBelow(T, strength[b], r_ahead)) continue;
         const double q = fdem::model::StrengthRatio(T, strength[b]);
         if (q >= r) mine.push_back(d->cell_gid[e]);
-        else if (q >= ahead) mine.push_back(-1 - d->cell_gid[e]); // (taken only when linked to a cell at r)
+        else if (q >= r_ahead) mine.push_back(-1 - d->cell_gid[e]); // (taken only when linked to a cell at r)
       }
     }
     e0 = e1;

@@ -64,8 +64,8 @@ def last(out):
     return open(os.path.join(root, out, "balance.csv")).read().strip().split("\n")[-1]
 
 # 1. the straight run against the bar split from the start
-none = ["-fdem_insert_ahead", "0"] # (A, B, C: one insertion a cell reaching the ratio, with its neighbours)
-ta = run(np, "A", none)
+no_ahead = ["-fdem_insert_ahead", "0"] # (A, B, C: one insertion a cell reaching the ratio, with its neighbours)
+ta = run(np, "A", no_ahead)
 run(np, "S", [], presplit)
 ia = insertions(ta)
 check("the straight run inserts joints several times", len(ia) >= 3, f"{len(ia)} insertions: {ia}")
@@ -80,18 +80,18 @@ check("the bar breaks", len(breaks("A")) > 0, f"{len(breaks('A'))} joints broken
 # 2. a restart from a checkpoint between two insertions, on the same ranks
 import glob
 first = max(glob.glob(os.path.join(root, "A", "checkpoint.*.h5")), key=lambda f: int(f.split(".")[-2])) # the oldest kept
-tb = run(np, "B", none + ["-restart", first])
+tb = run(np, "B", no_ahead + ["-restart", first])
 after = [x for x in ia if x[0] > 0.0025]
 check("the restart makes the insertions the straight run made after 2.5 ms", insertions(tb) == after and len(after) >= 2, f"{insertions(tb)} against {after}")
 check("the restart breaks the same joints in the same steps", breaks("B") == breaks("A"), f"{len(breaks('B'))} breaks")
 check(f"the restart's last balance row equals the straight run's bitwise ({np} ranks)", last("A") == last("B"), f"\n  {last('A')}\n  {last('B')}")
 
 # a scene without insert_at cannot take that checkpoint: an error that says why
-code, text = run(np, "X", none + ["-restart", first], presplit, expect_ok=False)
+code, text = run(np, "X", no_ahead + ["-restart", first], presplit, expect_ok=False)
 check("restarting a scene without insert_at from it: an error naming the checkpoint", code != 0 and "inserted joints during the run" in text and "fracture.insert_at" in text, f"exit status {code}")
 
 # 3. the same restart on the other rank count
-tc = run(other, "C", none + ["-restart", first])
+tc = run(other, "C", no_ahead + ["-restart", first])
 check(f"on {other} ranks: the same insertions", [n for _, n in insertions(tc)] == [n for _, n in after], f"{insertions(tc)}")
 bc, ba = breaks("C"), breaks("A")
 same = sorted(j for _, j in bc) == sorted(j for _, j in ba)
