@@ -8,6 +8,7 @@
 #include <fdem/kernels/nbs.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <functional>
 
@@ -518,6 +519,8 @@ PetscErrorCode Engine::Search() {
   for (int i = nl; i < N; ++i) PrimBox(gprim_[i - nl], gx_[i - nl], gprim_[i - nl].margin, &boxes[6 * (size_t)i]);
   pairs_.clear();
   kept_.clear();
+  kept_made_ = false;
+  kept_off_.clear();
   ss_.clear();
   st_.clear();
   sp_fresh_      = true;
@@ -674,38 +677,92 @@ PetscErrorCode Engine::KeepSearch(const std::vector<Primitive> &before, bool *ke
 
 // The pairs of the kept search (kept_) for the records of the listing now: the ghosts get their
 // records again, and each candidate is paired unless a primitive is idle or its adapter does
-// not pair the two. Collective.
-PetscErrorCode Engine::PairsFromKept() {
+// not pair the two. changed: where only those own records changed since the last call (a
+// listing in place), and no adapter's PairRule, only the candidates of those and of the ghosts
+// whose records changed are asked again, and the pairs before are kept in the same order.
+// Collective.
+PetscErrorCode Engine::PairsFromKept(const std::vector<int> *changed) {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_SEARCH, 0, 0, 0, 0));
+  std::vector<std::int64_t> rule(adapters_.size());
+  for (size_t k = 0; k < adapters_.size(); ++k) rule[k] = adapters_[k]->PairRule();
+  const bool few = changed && kept_made_ && rule == kept_rule_;
+  if (few) gprim_before_.assign(gprim_.begin(), gprim_.end());
   PetscCall(SendRecords());
-  auto  &pairs = pairs_next_; // (swapped with pairs_ and sep_ below: the arrays are kept)
-  auto  &sep   = sep_next_;
-  size_t j     = 0; // the pairs before are kept_'s paired entries, in its order
-  pairs.clear();
-  sep.clear();
-  fresh_.clear();
-  // what decides most candidates, per primitive in one compact array (the records are large, and
-  // kept_ holds every pair of neighbours within a fracturable body): idle, and the group (two
-  // primitives of one body with one group >= 0 are not paired, Primitive::group)
   const int N = nl_ + ng_;
-  held_.resize(N);
-  for (int i = 0; i < N; ++i) held_[i] = P(i).idle ? kIdle : P(i).group;
-  for (const auto &c : kept_) {
-    const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
-    const std::int8_t  s   = was ? sep_[j] : 0;
-    if (was) ++j;
-    const std::int64_t ga = held_[c[0]], gb = held_[c[1]];
-    if (ga == kIdle || gb == kIdle) continue;
-    if (c[2] != 0 && ((ga >= 0 && ga == gb) || !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1])))) continue; // (Paired, the group from held_)
-    pairs.push_back({c[0], c[1]});
-    sep.push_back(s);
-    fresh_.push_back(was ? 0 : 1);
+  if (few) {
+    // the primitives whose records changed: own ones (changed) and ghosts (their records compared)
+    flips_.clear();
+    refreshed_.assign(changed->begin(), changed->end());
+    for (int g = 0; g < ng_; ++g)
+      if (std::memcmp(&gprim_before_[g], &gprim_[g], sizeof(Primitive))) refreshed_.push_back(nl_ + g);
+    if (kept_off_.empty()) { // each primitive's entries in kept_, once per search
+      kept_off_.assign(N + 1, 0);
+      for (const auto &c : kept_) ++kept_off_[c[0] + 1], ++kept_off_[c[1] + 1];
+      for (int i = 0; i < N; ++i) kept_off_[i + 1] += kept_off_[i];
+      kept_at_.resize(kept_off_[N]);
+      std::vector<int> fill(kept_off_.begin(), kept_off_.end() - 1);
+      for (size_t q = 0; q < kept_.size(); ++q) kept_at_[fill[kept_[q][0]]++] = (int)q, kept_at_[fill[kept_[q][1]]++] = (int)q;
+    }
+    for (int i : refreshed_) held_[i] = P(i).idle ? kIdle : P(i).group;
+    for (int i : refreshed_)
+      for (int m = kept_off_[i]; m < kept_off_[i + 1]; ++m)
+        if (const int q = kept_at_[m]; (char)KeptPaired(kept_[q]) != kept_on_[q]) flips_.push_back(q);
+    std::sort(flips_.begin(), flips_.end());
+    flips_.erase(std::unique(flips_.begin(), flips_.end()), flips_.end());
+    fresh_.assign(pairs_.size(), 0);
+    if (!flips_.empty()) { // the pairs before and the flipped candidates, merged in kept_'s order
+      auto            &pairs = pairs_next_;
+      auto            &sep   = sep_next_;
+      std::vector<int> at;
+      pairs.clear(), sep.clear(), fresh_.clear();
+      at.reserve(pairs_.size() + flips_.size());
+      size_t i = 0, f = 0;
+      while (i < pairs_.size() || f < flips_.size()) {
+        const int qi = i < pairs_.size() ? pair_kept_[i] : INT32_MAX, qf = f < flips_.size() ? flips_[f] : INT32_MAX;
+        if (qi < qf) pairs.push_back(pairs_[i]), sep.push_back(sep_[i]), fresh_.push_back(0), at.push_back(qi), ++i;
+        else if (qf < qi) pairs.push_back({kept_[qf][0], kept_[qf][1]}), sep.push_back(0), fresh_.push_back(1), at.push_back(qf), ++f; // paired now
+        else ++i, ++f; // paired no more
+      }
+      for (int q : flips_) kept_on_[q] ^= 1;
+      pairs_.swap(pairs);
+      sep_.swap(sep);
+      pair_kept_.swap(at);
+      PetscCall(PairsListed());
+    }
+  } else {
+    auto  &pairs = pairs_next_; // (swapped with pairs_ and sep_ below: the arrays are kept)
+    auto  &sep   = sep_next_;
+    size_t j     = 0; // the pairs before are kept_'s paired entries, in its order
+    pairs.clear();
+    sep.clear();
+    fresh_.clear();
+    pair_kept_.clear();
+    kept_on_.assign(kept_.size(), 0);
+    // what decides most candidates, per primitive in one compact array (the records are large, and
+    // kept_ holds every pair of neighbours within a fracturable body): idle, and the group (two
+    // primitives of one body with one group >= 0 are not paired, Primitive::group)
+    held_.resize(N);
+    for (int i = 0; i < N; ++i) held_[i] = P(i).idle ? kIdle : P(i).group;
+    for (size_t q = 0; q < kept_.size(); ++q) {
+      const auto        &c   = kept_[q];
+      const bool         was = j < pairs_.size() && pairs_[j][0] == c[0] && pairs_[j][1] == c[1];
+      const std::int8_t  s   = was ? sep_[j] : 0;
+      if (was) ++j;
+      if (!KeptPaired(c)) continue;
+      pairs.push_back({c[0], c[1]});
+      sep.push_back(s);
+      fresh_.push_back(was ? 0 : 1);
+      pair_kept_.push_back((int)q);
+      kept_on_[q] = 1;
+    }
+    pairs_.swap(pairs);
+    sep_.swap(sep);
+    kept_rule_ = rule;
+    kept_made_ = true;
+    PetscCall(PairsListed());
   }
   fresh_valid_ = true;
-  pairs_.swap(pairs);
-  sep_.swap(sep);
-  PetscCall(PairsListed());
   searched_ = true;
   PetscInt loc = (PetscInt)pairs_.size(), glob;
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPIU_INT, MPI_SUM, comm_));
@@ -713,6 +770,13 @@ PetscErrorCode Engine::PairsFromKept() {
   stats_.kept++;
   PetscCall(PetscLogEventEnd(EV_SEARCH, 0, 0, 0, 0));
   PetscFunctionReturn(0);
+}
+
+// Is kept candidate c paired, by held_ and its adapter (PairsFromKept)?
+bool Engine::KeptPaired(const std::array<int, 3> &c) const {
+  const std::int64_t ga = held_[c[0]], gb = held_[c[1]];
+  if (ga == kIdle || gb == kIdle) return false;
+  return !(c[2] != 0 && ((ga >= 0 && ga == gb) || !adapters_[P(c[0]).kind]->SelfPair(P(c[0]), P(c[1])))); // (Paired, the group from held_)
 }
 
 // A listing that fracture caused, without listing: where every adapter that changed kept its
@@ -724,15 +788,20 @@ PetscErrorCode Engine::RefreshListing() {
   int mine = 1, all;
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(EV_LIST, 0, 0, 0, 0));
+  std::vector<int> changed, part;
   for (size_t k = 0; k < adapters_.size() && mine; ++k)
-    if (changed_[k]) mine = adapters_[k]->RefreshInPlace(prim_.data() + first_[k], (size_t)(first_[k + 1] - first_[k])) ? 1 : 0;
+    if (changed_[k]) {
+      part.clear();
+      mine = adapters_[k]->RefreshInPlace(prim_.data() + first_[k], (size_t)(first_[k + 1] - first_[k]), part) ? 1 : 0;
+      for (int i : part) changed.push_back(first_[k] + i);
+    }
   PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, comm_));
   if (all) PetscCall(Tally());
   PetscCall(PetscLogEventEnd(EV_LIST, 0, 0, 0, 0));
   if (!all) PetscFunctionReturn(0);
   listed_ = true;
   stats_.in_place++;
-  PetscCall(PairsFromKept());
+  PetscCall(PairsFromKept(&changed));
   PetscFunctionReturn(0);
 }
 

@@ -149,10 +149,15 @@ public:
   // the same order (n of them; only their records changed), writes the records that changed
   // into its part of the engine's listing, mine (kind and margin are the engine's: kept), and
   // says true; false: the engine lists every adapter again.
-  virtual bool RefreshInPlace(Primitive *mine, size_t n) {
-    (void)mine, (void)n;
+  // changed: the numbers (in mine) of the records written, increasing.
+  virtual bool RefreshInPlace(Primitive *mine, size_t n, std::vector<int> &changed) {
+    (void)mine, (void)n, (void)changed;
     return false;
   }
+  // A number that changes whenever SelfPair may answer otherwise for two records that did not
+  // change (a mesh's rule by shared nodes began): the engine then asks again for every pair its
+  // search kept (PairsFromKept).
+  virtual std::int64_t PairRule() const { return 0; }
   // May Changed() report a change during a run (a mesh with fracture joints)? The engine then
   // keeps what a listing with the same primitives needs to keep its search (KeepSearch).
   virtual bool Relists() const { return false; }
@@ -319,7 +324,8 @@ private:
     return !(a.group >= 0 && a.group == b.group) && adapters_[a.kind]->SelfPair(a, b);
   }
   PetscErrorCode KeepSearch(const std::vector<Primitive> &before, bool *kept);
-  PetscErrorCode PairsFromKept();
+  PetscErrorCode PairsFromKept(const std::vector<int> *changed = nullptr);
+  bool           KeptPaired(const std::array<int, 3> &c) const;
   PetscErrorCode RefreshListing();
   PetscErrorCode Tally();
   PetscErrorCode UpdateGhosts(bool x, bool v);
@@ -388,6 +394,15 @@ private:
   std::vector<char>               fresh_;      // at a listing caused by fracture that kept the search: per pair, not a pair before it
   bool                            fresh_valid_ = false; // fresh_ is this evaluation's (else old_pairs_ is sorted and searched)
   std::vector<std::int8_t>        sep_;        // per pair: the axis that last found it apart (SeparatingAxis; 0: none)
+  // PairsFromKept's decision per entry of kept_ (paired or not) and, per pair, its entry in
+  // kept_, as of the adapters' PairRule in kept_rule_ (kept_made_: made since the last search);
+  // per own and ghost primitive, its entries in kept_ (kept_off_, kept_at_: made at the first
+  // relisting of a search that changes only some records)
+  std::vector<char>               kept_on_;
+  std::vector<int>                pair_kept_, kept_off_, kept_at_, refreshed_, flips_;
+  std::vector<std::int64_t>       kept_rule_;
+  std::vector<Primitive>          gprim_before_;
+  bool                            kept_made_ = false;
   std::vector<std::array<int, 3>> kept_;       // where a search may be kept (KeepSearch): the candidate tetrahedron pairs (a, b, c) in the order of pairs_, c = 0 between two bodies, 1 within a body, 2 within a body and not paired by its adapter at the search (a pair with an idle primitive is kept too, and paired once neither is idle)
   std::vector<std::array<int, 2>> ss_, st_;    // sphere-sphere (holder first), sphere-tetrahedron (sphere first, grouped by body)
   // The sphere-sphere pairs ready for the pair loop, made from ss_ after each search: the two

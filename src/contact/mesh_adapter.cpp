@@ -97,24 +97,14 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
   // stable listings, a cell at a joint of a body whose joints are inserted during the run is
   // taken idle when nothing else takes it (a listing then changes at a rebuild, not each time
   // a joint softens or breaks: the engine keeps its search)
-  const bool                                    stable = t && stable_;
+  const bool stable = t && stable_;
+  if (stable && SelectChanged(*t)) return;
   auto &taken = taken_; // (kept: a selection is made each time joints soften or break)
   taken.clear();
   for (size_t e = 0; e < nc; ++e) {
-    const bool frac = t && t->fracturable[A.body[e]];
-    char       surf = A.surf[e];
-    bool       on;
-    if (frac) { // a split cell's faces are all boundary faces of the mesh (A.surf 0xF)
-      surf = (char)(t->cell_free[e] & 0xF & surf);
-      on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10)) || (damaged_cells_ && (t->cell_free[e] & 0x20));
-      if (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x40)) // unsplit, in a body with fracture zones
-        for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
-    } else {
-      on = surf != 0;
-      if (which_ == Cells::BoundaryVertex)
-        for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
-    }
-    const bool idle = !on && stable && frac && (t->cell_free[e] & 0x80);
+    char surf;
+    bool on, idle;
+    Take((PetscInt)e, t, stable, &surf, &on, &idle);
     if (on || idle) taken.push_back({(PetscInt)e, surf, idle});
   }
   // the same cells as the listing before (stable listings): their records are brought up to date
@@ -132,6 +122,7 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
       faces_[i] = surf;
       refreshed_.push_back((int)i);
     }
+    version_ = t->version;
     return;
   }
   conn_.clear();
@@ -158,6 +149,63 @@ void MeshAdapter::Select(const fdem::model::FractureTopology *t) {
     if (t) cell_.push_back(e), state_.push_back(s);
     faces_.push_back(surf);
   }
+  slot_.clear();
+  if (stable) {
+    slot_.assign(nc, -1);
+    for (size_t i = 0; i < cell_.size(); ++i) slot_[cell_[i]] = (PetscInt)i;
+  }
+  version_ = t ? t->version : 0;
+}
+
+// Whether local cell e takes part (on) or is listed idle (stable listings), and its surface.
+void MeshAdapter::Take(PetscInt e, const fdem::model::FractureTopology *t, bool stable, char *surface, bool *taken, bool *idle) const {
+  const AllCells &A    = all_;
+  const bool      frac = t && t->fracturable[A.body[e]];
+  char            surf = A.surf[e];
+  bool            on;
+  if (frac) { // a split cell's faces are all boundary faces of the mesh (A.surf 0xF)
+    surf = (char)(t->cell_free[e] & 0xF & surf);
+    on   = surf != 0 || (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x10)) || (damaged_cells_ && (t->cell_free[e] & 0x20));
+    if (which_ == Cells::BoundaryVertex && (t->cell_free[e] & 0x40)) // unsplit, in a body with fracture zones
+      for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
+  } else {
+    on = surf != 0;
+    if (which_ == Cells::BoundaryVertex)
+      for (int k = 0; k < 4; ++k) on = on || A.bnode[A.conn[4 * e + k]];
+  }
+  *surface = surf;
+  *taken   = on;
+  *idle    = !on && stable && frac && (t->cell_free[e] & 0x80);
+}
+
+// A stable listing made from topology answer version_, and t differs from it only in the cells
+// t.changed (joints that softened): when each of those is listed, and stays so, only their
+// records are brought up to date (in place, as Select's loop over every cell would).
+bool MeshAdapter::SelectChanged(const fdem::model::FractureTopology &t) {
+  if (t.changed_from == 0 || t.changed_from != version_ || slot_.empty() || prims_.empty()) return false;
+  for (PetscInt e : t.changed) {
+    char surf;
+    bool on, idle;
+    Take(e, &t, true, &surf, &on, &idle);
+    if ((on || idle) != (slot_[e] >= 0)) return false; // (a cell joins or leaves the listing)
+  }
+  refreshed_.clear();
+  for (PetscInt e : t.changed) {
+    char surf;
+    bool on, idle;
+    Take(e, &t, true, &surf, &on, &idle);
+    const PetscInt  i = slot_[e];
+    const CellState s = State(e, surf, idle, &t);
+    if (s == state_[i]) continue;
+    state_[i] = s;
+    s.Apply(prims_[i]);
+    faces_[i] = surf;
+    refreshed_.push_back((int)i);
+  }
+  std::sort(refreshed_.begin(), refreshed_.end());
+  in_place_ = true;
+  version_  = t.version;
+  return true;
 }
 
 // What fracture changes in the record of local cell e, taken with surface surf (idle: listed,
@@ -177,9 +225,10 @@ MeshAdapter::CellState MeshAdapter::State(PetscInt e, char surf, bool idle, cons
   return s;
 }
 
-bool MeshAdapter::RefreshInPlace(Primitive *mine, size_t n) {
+bool MeshAdapter::RefreshInPlace(Primitive *mine, size_t n, std::vector<int> &changed) {
   if (!in_place_ || n != prims_.size()) return false;
   for (int i : refreshed_) state_[i].Apply(mine[i]);
+  changed = refreshed_;
   return true;
 }
 

@@ -53,7 +53,11 @@ public:
   bool           Relists() const override { return fractured_; }
   // After a Changed() that kept the cells (stable listings: the cells at joints are listed idle):
   // the records that changed, in place.
-  bool           RefreshInPlace(Primitive *mine, size_t n) override;
+  bool           RefreshInPlace(Primitive *mine, size_t n, std::vector<int> &changed) override;
+  // (The rule by shared node keys begins once a joint has softened or broken. A joint that
+  // breaks frees a face of each of its two tetrahedra, a face of the split mesh's boundary, so
+  // both records change: the pair of a broken joint is asked again without a new rule.)
+  std::int64_t   PairRule() const override { return fractured_ && (nbroken_ > 0 || (damaged_cells_ && ndamaged_ > 0)) ? 1 : 0; }
   void           OnsetEnergy(PetscReal e) override;
   PetscErrorCode Frequency2(PetscReal penalty, PetscReal *w2) override;
   std::string    BodyName(const Primitive &p) const override;
@@ -76,6 +80,11 @@ private:
   // Selects the cells taking part (conn_, prims_, faces_) from all_; t: the fracture
   // topology (null when the mesh has no joints).
   void Select(const fdem::model::FractureTopology *t);
+  // Select's decision for local cell e: its surface, whether it takes part, or is listed idle
+  void Take(PetscInt e, const fdem::model::FractureTopology *t, bool stable, char *surface, bool *taken, bool *idle) const;
+  // Select where only joints softened since the listing (FractureTopology::changed): false
+  // when that cannot be done in place (Select then looks at every cell)
+  bool SelectChanged(const fdem::model::FractureTopology &t);
   // What the fracture topology decides in a listed cell's record (Select)
   struct CellState {
     PetscInt     node[4];
@@ -123,6 +132,8 @@ private:
   std::vector<CellState>               state_;     // with joints: per listed cell, what the topology decided in its record
   bool                                 in_place_ = false; // the last Select kept the cells and changed the records refreshed_ in place
   std::vector<int>                     refreshed_;
+  std::vector<PetscInt>                slot_;        // stable listings: per local cell, its index in the listing (-1: not listed)
+  PetscInt                             version_ = 0; // the topology answer (FractureTopology::version) the listing is made from
   std::vector<PetscReal>               body_force_;
   std::vector<PetscInt>                ref_node_; // the local nodes of the listed cells, each once, in order
   std::vector<PetscReal>               ref_x_;    // their positions at the last search (3 a node)

@@ -395,31 +395,41 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, const F
   const PetscInt nc = (PetscInt)d->ed.size(), nl = d->nlocal, nj = (PetscInt)d->jnode_a.size();
   // The cells with a damaged joint face (bit 5 of cell_free): tetrahedron a of each damaged joint
   // here, and tetrahedron b wherever it is, over the joint-face SF (the third value of a face).
-  const auto damaged_cells = [&](std::vector<unsigned char> &damaged) -> PetscErrorCode {
-    damaged.assign(nc, 0);
+  // (A list, a cell perhaps more than once: an answer where only joints softened looks at these
+  // cells alone.)
+  const auto damaged_cells = [&](std::vector<PetscInt> &damaged) -> PetscErrorCode {
+    damaged.clear();
     if (!d->jfsf) return 0;
     fdem::model::TopologyCache &tc = *d->topology_cache;
     std::vector<PetscInt>       fleaf(3 * (std::size_t)nj, kNoFace);
     for (PetscInt j = 0; j < nj; ++j)
       if (JointDamaged(d->jstate[j])) {
-        damaged[d->jcell_a[j]] = 1;
-        fleaf[3 * j + 2]       = 1;
+        damaged.push_back(d->jcell_a[j]);
+        fleaf[3 * j + 2] = 1;
       }
     for (PetscInt r : tc.glued) tc.froot[r] = tc.froot[r + 1] = tc.froot[r + 2] = kNoFace;
     PetscCall(PetscSFReduceBegin(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
     PetscCall(PetscSFReduceEnd(d->jfsf, MPIU_INT, fleaf.data(), tc.froot.data(), MPI_MAX));
     for (PetscInt r : tc.glued)
-      if (tc.froot[r + 2] == 1) damaged[r / 12] = 1;
+      if (tc.froot[r + 2] == 1) damaged.push_back(r / 12);
     return 0;
   };
   if (d->topology_made && d->topology.nbroken == nbroken) {
     // Only joints that softened: the broken ones are those of the last answer, and so are the
-    // free faces, the node keys and the fragments; only the damaged cells change.
-    std::vector<unsigned char> damaged;
+    // free faces, the node keys and the fragments; only the damaged cells change, and only by
+    // joining (a joint once damaged stays so).
+    std::vector<PetscInt> damaged;
     PetscCall(damaged_cells(damaged));
     auto &T    = d->topology;
     T.ndamaged = ndamaged;
-    for (PetscInt e = 0; e < nc; ++e) T.cell_free[e] = (unsigned char)((T.cell_free[e] & ~0x20) | (damaged[e] ? 0x20 : 0));
+    T.changed.clear();
+    for (PetscInt e : damaged)
+      if (!(T.cell_free[e] & 0x20)) {
+        T.cell_free[e] |= 0x20;
+        T.changed.push_back(e);
+      }
+    std::sort(T.changed.begin(), T.changed.end());
+    T.changed_from = T.version++;
     *out = &T;
     PetscFunctionReturn(0);
   }
@@ -443,7 +453,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, const F
   //    rank is listed once, by its own rank), whether the joint is intact and held by another
   //    rank (the face's nodes and its cell are then at a rank boundary). The damaged cells come
   //    after (damaged_cells).
-  std::vector<unsigned char>           freef(nc, 0), damaged;
+  std::vector<unsigned char>           freef(nc, 0), damaged(nc, 0);
   std::vector<std::array<PetscInt, 2>> pairs;               // broken joints touching this rank's cells
   std::vector<PetscInt>                remote_j, remote_b, nbnd, cbnd; // intact joints to another rank; nodes of their triangles b here; nodes and cells glued to another rank
   std::vector<PetscInt>               &froot = tc.froot;
@@ -489,7 +499,11 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, const F
     remote_b.erase(std::unique(remote_b.begin(), remote_b.end()), remote_b.end());
     nbnd.insert(nbnd.end(), remote_b.begin(), remote_b.end());
   }
-  PetscCall(damaged_cells(damaged));
+  {
+    std::vector<PetscInt> list;
+    PetscCall(damaged_cells(list));
+    for (PetscInt e : list) damaged[e] = 1;
+  }
   std::sort(pairs.begin(), pairs.end());
   // 2. This rank's classes: node keys (the nodes of a split cell's free faces flagged) and fragments.
   LabelClasses nodes(std::vector<PetscInt>(d->node_gid.begin(), d->node_gid.begin() + nl)), cells = tc.cells;
@@ -591,6 +605,7 @@ PetscErrorCode fdem::model::DeformableFractureTopology(FDEMDeformable d, const F
     t.cell_free[e]     = (unsigned char)(freef[e] | (frac(e) && onfree ? 0x10 : 0) | (damaged[e] ? 0x20 : 0) | (frac(e) && !split(e) ? 0x40 : 0) | (jointed[e] ? 0x80 : 0));
     t.cell_fragment[e] = cells.Label(e);
   }
+  t.version        = d->topology.version + 1;
   d->topology      = std::move(t);
   d->topology_made = true;
   *out             = &d->topology;

@@ -49,6 +49,12 @@ struct FractureTopology {
   // its input node glued to it through intact joints (its own id outside fracturable bodies)
   std::vector<PetscInt>                cell_key;
   std::vector<std::array<PetscInt, 2>> broken_pairs; // the two cell ids of every broken joint with a cell on this rank, smaller first, sorted
+  // Each answer's number (1, 2, ... in a model), and, when the answer before this one differs
+  // from it only where joints softened and none broke (bit 5 of cell_free), that answer's
+  // number (else 0) and the local cells whose bit 5 changed, ascending: a reader that has
+  // taken answer changed_from may update only those cells
+  PetscInt                             version = 0, changed_from = 0;
+  std::vector<PetscInt>                changed;
 };
 // Collective (each rank works on its own cells and joints, and exchanges labels with the
 // ranks it shares joints or nodes with; deformable_fragments.cpp). Nothing per fragment of
