@@ -143,7 +143,7 @@ PetscErrorCode PrintContactSummary(const Sim &s, PetscInt nbodies) {
     PetscCall(PetscPrintf(s.comm, "contact (%s): %" PetscInt_FMT " searches in %" PetscInt_FMT " evaluations; %" PetscInt_FMT " contact tetrahedra, %" PetscInt_FMT " ghosts; last search %" PetscInt_FMT " candidate pairs (%.1f per body), last evaluation %" PetscInt_FMT " touching (%.1f per body)\n", it.what, it.st.searches, it.st.evaluations,
                           it.st.primitives, it.st.ghosts, it.st.candidate_pairs, it.st.candidate_pairs * per, it.st.active_pairs, it.st.active_pairs * per));
     if (it.st.kept > 0)
-      PetscCall(PetscPrintf(s.comm, "contact (%s): %" PetscInt_FMT " listings where joints broke or softened kept the last search (the same contact tetrahedra), %" PetscInt_FMT " of them made in place\n", it.what, it.st.kept, it.st.in_place));
+      PetscCall(PetscPrintf(s.comm, "contact (%s): %" PetscInt_FMT " listings where joints broke or softened kept the last search (the same contact tetrahedra), %" PetscInt_FMT " of them made in place, %" PetscInt_FMT " of these asking again only the candidates of the records that changed\n", it.what, it.st.kept, it.st.in_place, it.st.in_place_few));
     if (it.st.onset != 0)
       PetscCall(PetscPrintf(s.comm, "contact (%s): faces that fracture exposed came into this run's contact with %.4g J of overlap energy, taken from balance.csv's fracture column (the handover to contact, doc/fracture.md)\n", it.what, (double)it.st.onset));
   }

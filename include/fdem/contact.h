@@ -43,6 +43,7 @@ typedef struct {
   PetscReal onset;           /* the overlap energy that listings caused by fracture added at their state, summed (doc/fracture.md, "The handover to contact") */
   PetscInt  kept;            /* listings caused by fracture that kept the last search (the same contact tetrahedra, only their records changed; doc/contact_engine.md) */
   PetscInt  in_place;        /* of those, the listings made in place (only the changed records written; doc/contact_engine.md) */
+  PetscInt  in_place_few;    /* of those, the listings that asked again only the candidates of the records that changed (doc/contact_engine.md) */
 } FDEMContactStats;
 
 /* Attaches contact to the rigid bodies rb (before FDEMRigidSetUpTS / FDEMRigidSolve): a

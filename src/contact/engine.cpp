@@ -712,11 +712,10 @@ PetscErrorCode Engine::PairsFromKept(const std::vector<int> *changed) {
     flips_.erase(std::unique(flips_.begin(), flips_.end()), flips_.end());
     fresh_.assign(pairs_.size(), 0);
     if (!flips_.empty()) { // the pairs before and the flipped candidates, merged in kept_'s order
-      auto            &pairs = pairs_next_;
-      auto            &sep   = sep_next_;
-      std::vector<int> at;
-      pairs.clear(), sep.clear(), fresh_.clear();
-      at.reserve(pairs_.size() + flips_.size());
+      auto &pairs = pairs_next_;
+      auto &sep   = sep_next_;
+      auto &at    = pair_kept_next_;
+      pairs.clear(), sep.clear(), fresh_.clear(), at.clear();
       size_t i = 0, f = 0;
       while (i < pairs_.size() || f < flips_.size()) {
         const int qi = i < pairs_.size() ? pair_kept_[i] : INT32_MAX, qf = f < flips_.size() ? flips_[f] : INT32_MAX;
@@ -730,6 +729,7 @@ PetscErrorCode Engine::PairsFromKept(const std::vector<int> *changed) {
       pair_kept_.swap(at);
       PetscCall(PairsListed());
     }
+    stats_.in_place_few++;
   } else {
     auto  &pairs = pairs_next_; // (swapped with pairs_ and sep_ below: the arrays are kept)
     auto  &sep   = sep_next_;

@@ -399,7 +399,7 @@ private:
   // per own and ghost primitive, its entries in kept_ (kept_off_, kept_at_: made at the first
   // relisting of a search that changes only some records)
   std::vector<char>               kept_on_;
-  std::vector<int>                pair_kept_, kept_off_, kept_at_, refreshed_, flips_;
+  std::vector<int>                pair_kept_, pair_kept_next_, kept_off_, kept_at_, refreshed_, flips_;
   std::vector<std::int64_t>       kept_rule_;
   std::vector<Primitive>          gprim_before_;
   bool                            kept_made_ = false;

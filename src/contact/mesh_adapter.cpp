@@ -183,17 +183,17 @@ void MeshAdapter::Take(PetscInt e, const fdem::model::FractureTopology *t, bool 
 // records are brought up to date (in place, as Select's loop over every cell would).
 bool MeshAdapter::SelectChanged(const fdem::model::FractureTopology &t) {
   if (t.changed_from == 0 || t.changed_from != version_ || slot_.empty() || prims_.empty()) return false;
+  auto &taken = taken_; // (Select's scratch)
+  taken.clear();
   for (PetscInt e : t.changed) {
     char surf;
     bool on, idle;
     Take(e, &t, true, &surf, &on, &idle);
     if ((on || idle) != (slot_[e] >= 0)) return false; // (a cell joins or leaves the listing)
+    taken.push_back({e, surf, idle});
   }
   refreshed_.clear();
-  for (PetscInt e : t.changed) {
-    char surf;
-    bool on, idle;
-    Take(e, &t, true, &surf, &on, &idle);
+  for (const auto &[e, surf, idle] : taken) {
     const PetscInt  i = slot_[e];
     const CellState s = State(e, surf, idle, &t);
     if (s == state_[i]) continue;

@@ -12,8 +12,9 @@ same fragments (DIR/fragments.csv: ids and element counts, centres within TOL, v
 1000 TOL), and with
 --kept the first run must have kept its search at some listing where joints broke or softened
 (Engine::KeepSearch) and made some of those listings in place (Engine::RefreshListing: only the
-changed records written), so that the kept candidates and the records written in place are what
-is compared; the second run keeps none.
+changed records written), some of these asking again only the candidates of the records that
+changed (the others' answers kept), so that the kept candidates, the records written in place and
+the pairs kept from the listing before are what is compared; the second run keeps none.
 
   search_agree.py FDEM SCENE TOL MOVING [--kept] [--ranks MPIEXEC N] [driver options...]
 """
@@ -36,7 +37,7 @@ while more and more[0] in ("--kept", "--ranks"):
     else:
         launch, more = [more[1], "-n", more[2]], more[3:]
 root = scratch_dir("fdem_search_")
-rows, searches, breaks, kept, in_place, pieces = {}, {}, {}, {}, {}, {}
+rows, searches, breaks, kept, in_place, few, pieces = {}, {}, {}, {}, {}, {}, {}
 for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer", "0", "-fdem_contact_keep_search", "0"])):
     out = os.path.join(root, name.replace(" ", "_"))
     cmd = launch + [fdem, scene, "-fdem_output", out, "-fdem_progress", "0"] + opts + more
@@ -49,9 +50,10 @@ for name, opts in (("margins", []), ("every evaluation", ["-fdem_contact_buffer"
     if not m:
         sys.exit(f"FAIL: no contact statistics line ({name})")
     searches[name] = (int(m.group(1)), int(m.group(2)))
-    lines = re.findall(r"contact \([a-z-]+\): (\d+) listings where joints broke.*, (\d+) of them made in place", r.stdout)
-    kept[name] = sum(int(k) for k, _ in lines)
-    in_place[name] = sum(int(m) for _, m in lines)
+    lines = re.findall(r"contact \([a-z-]+\): (\d+) listings where joints broke.*, (\d+) of them made in place, (\d+) of these asking again only", r.stdout)
+    kept[name] = sum(int(k) for k, _, _ in lines)
+    in_place[name] = sum(int(m) for _, m, _ in lines)
+    few[name] = sum(int(q) for _, _, q in lines)
     with open(os.path.join(out, "bodies.csv")) as f:
         rows[name] = list(csv.reader(f))
     if os.path.exists(os.path.join(out, "fracture.csv")):
@@ -88,11 +90,13 @@ if pieces:
         if dx > tol or dv > 1000 * tol:
             fail.append(f"the fragments part: centres {dx:.3e} m, velocities {dv:.3e} m/s")
 if want_kept:
-    print(f"listings that kept the search: {kept['margins']}, {in_place['margins']} of them made in place")
+    print(f"listings that kept the search: {kept['margins']}, {in_place['margins']} of them made in place, {few['margins']} of these asking again only the candidates of the records that changed")
     if kept["margins"] == 0:
         fail.append("no listing kept the search: the kept candidates are not tested")
     if in_place["margins"] == 0:
         fail.append("no listing was made in place: the records written in place are not tested")
+    if few["margins"] == 0:
+        fail.append("no listing in place asked again only the candidates of the records that changed: that way is not tested")
     if kept["every evaluation"] != 0:
         fail.append(f"-fdem_contact_keep_search 0 kept the search at {kept['every evaluation']} listings")
 for f in fail:
