@@ -11,6 +11,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -19,6 +20,10 @@
 #include <ctime>
 #include <sys/stat.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#include <sys/mman.h>
+#endif
 
 namespace fdem::driver {
 namespace {
@@ -30,6 +35,33 @@ struct Progress {
   PetscBool      on = PETSC_TRUE, tty = PETSC_FALSE;
   PetscMPIInt    rank = 0;
 };
+
+// A run that inserts joints builds its models again at each insertion, the new model beside the
+// old one until the state is handed over, and each rebuild's arrays land on memory the process
+// has not touched before: a page fault per 4 KiB page, which costs 10-20 us on a virtual machine
+// (a quarter of a rebuild on the crater, doc/fracture.md). So before the stepping the C library's
+// heap gets room for `factor` times the memory in use (one block, allocated and freed at once:
+// never touched, so it costs no memory until used), kept in the heap (no trimming, no separate
+// mappings below 32 MiB) and marked for transparent huge pages (2 MiB, one fault each) where the
+// system offers them on request. Where it does not, or without glibc, nothing changes.
+void ReserveHeapForRebuilds(double factor) {
+#if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
+  if (!(factor > 0)) return;
+  const struct mallinfo2 mi    = mallinfo2();
+  const double           bytes = factor * (double)mi.uordblks;
+  if (!(bytes >= 4.0 * (1 << 20)) || bytes > 1e12) return;
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, INT_MAX);
+  const std::size_t n     = (std::size_t)bytes;
+  void             *block = std::malloc(n);
+  if (!block) return;
+  const std::uintptr_t huge = (std::uintptr_t)2 << 20, a = ((std::uintptr_t)block + huge - 1) & ~(huge - 1), e = ((std::uintptr_t)block + n) & ~(huge - 1);
+  if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE); // (EINVAL where the kernel has none: then 4 KiB pages)
+  std::free(block);
+#else
+  (void)factor;
+#endif
+}
 
 PetscErrorCode ProgressMonitor(TS ts, PetscInt step, PetscReal t, Vec, void *ctx) {
   Progress      &p = *(Progress *)ctx;
@@ -351,9 +383,11 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
   PetscCall(PetscOptionsReal("-fdem_balance_gain_limit", "stop when balance.csv shows the scene gained more than this fraction of its energy (an unstable step); 0: never", "", o.gain_limit, &o.gain_limit, nullptr));
   PetscCall(PetscOptionsInt("-fdem_insert_every", "steps between the searches for tetrahedra that get joints during the run (materials' fracture.insert_at)", "", o.insert_every, &o.insert_every, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_insert_heap", "room kept in the heap for the rebuilds of a run that inserts joints, times the memory in use after the set-up, on transparent huge pages where the system offers them (0: none)", "", o.insert_heap, &o.insert_heap, nullptr));
   PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
+  PetscCheck(o.insert_heap >= 0 && o.insert_heap <= 100, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_heap %.4g: give a factor from 0 (none) to 100", (double)o.insert_heap);
   PetscCheck(o.insert_every >= 1, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_every %" PetscInt_FMT ": give a number of steps >= 1", o.insert_every);
   PetscFunctionReturn(0);
 }
@@ -554,6 +588,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const PetscInt ins = s.inserting ? o.insert_every : 0;
   PetscInt       ninserted = 0, ninsertions = 0;
   PetscLogDouble insert_time = 0; // wall time of the searches and rebuilds
+  if (ins) ReserveHeapForRebuilds(o.insert_heap);
   while (step < nsteps && t < end * (1 - 1e-12)) {
     TSConvergedReason reason;
     PetscInt          next = (step / every + 1) * every;

@@ -19,6 +19,7 @@ struct RunOptions {
   PetscBool check_only                 = PETSC_FALSE; // fdem check
   PetscReal gain_limit                 = 0.5; // -fdem_balance_gain_limit: stop when the scene gained this fraction of its energy
   PetscInt  insert_every               = 10;  // -fdem_insert_every: steps between the searches for tetrahedra that get joints (insert_at)
+  PetscReal insert_heap                = 1.5; // -fdem_insert_heap: room kept for the rebuilds of a run that inserts joints, times the memory in use after the set-up
 };
 
 // Reads the driver's options (-fdem_output, -fdem_progress) in a PetscOptions block (shown by -help).
