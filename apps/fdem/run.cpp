@@ -45,7 +45,7 @@ struct Progress {
 // mappings below 32 MiB) and marked for transparent huge pages (2 MiB, one fault each) where the
 // system offers them on request. Where it does not, or without glibc, nothing changes.
 void ReserveHeapForRebuilds(double factor) {
-#if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || __GLIBC_MINOR__ >= 33) && defined(MADV_HUGEPAGE) // (mallinfo2: glibc 2.33)
   if (!(factor > 0)) return;
   const struct mallinfo2 mi    = mallinfo2();
   const double           bytes = factor * (double)mi.uordblks;
