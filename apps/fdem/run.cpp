@@ -40,9 +40,9 @@ struct Progress {
 // old one until the state is handed over, and each rebuild's arrays land on memory the process
 // has not touched before: a page fault per 4 KiB page, which costs 10-20 us on a virtual machine
 // (a quarter of a rebuild on the crater, doc/fracture.md). So before the stepping the C library's
-// heap gets room for `factor` times the memory in use (one block, allocated and freed at once:
-// never touched, so it costs no memory until used), kept in the heap (no trimming, no separate
-// mappings below 32 MiB) and marked for transparent huge pages (2 MiB, one fault each) where the
+// heap gets room for `factor` times the memory in use (blocks of 16 MiB, allocated and freed at
+// once: never touched, so they cost no memory until used), kept in the heap (no trimming, no
+// separate mappings below 32 MiB, above which a single block would be one) and marked for transparent huge pages (2 MiB, one fault each) where the
 // system offers them on request. Where it does not, or without glibc, nothing changes.
 void ReserveHeapForRebuilds(double factor) {
 #if defined(__GLIBC__) && (__GLIBC__ > 2 || __GLIBC_MINOR__ >= 33) && defined(MADV_HUGEPAGE) // (mallinfo2: glibc 2.33)
@@ -50,14 +50,18 @@ void ReserveHeapForRebuilds(double factor) {
   const struct mallinfo2 mi    = mallinfo2();
   const double           bytes = factor * (double)mi.uordblks;
   if (!(bytes >= 4.0 * (1 << 20)) || bytes > 1e12) return;
+  constexpr std::size_t piece = (std::size_t)16 << 20; // (below the mapping threshold: each piece from the heap)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, INT_MAX);
-  const std::size_t n     = (std::size_t)bytes;
-  void             *block = std::malloc(n);
-  if (!block) return;
-  const std::uintptr_t huge = (std::uintptr_t)2 << 20, a = ((std::uintptr_t)block + huge - 1) & ~(huge - 1), e = ((std::uintptr_t)block + n) & ~(huge - 1);
-  if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE); // (EINVAL where the kernel has none: then 4 KiB pages)
-  std::free(block);
+  std::vector<void *> blocks;
+  for (std::size_t got = 0; got < (std::size_t)bytes; got += piece) {
+    void *block = std::malloc(piece);
+    if (!block) break;
+    blocks.push_back(block);
+    const std::uintptr_t huge = (std::uintptr_t)2 << 20, a = ((std::uintptr_t)block + huge - 1) & ~(huge - 1), e = ((std::uintptr_t)block + piece) & ~(huge - 1);
+    if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE); // (EINVAL where the kernel has none: then 4 KiB pages)
+  }
+  for (void *block : blocks) std::free(block);
 #else
   (void)factor;
 #endif
