@@ -103,13 +103,34 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   if (first.empty() && !sc.petsc.empty()) { // a message naming an option or value of the scene's petsc: string ("Input string abc has no numeric value")
     std::istringstream words(sc.petsc);
     for (std::string w; words >> w;)
-      if (w.size() > 1 && msg.find(w) != std::string::npos) {
+      if ((w.size() > 1 && msg.find(w) != std::string::npos) || msg.find("value: " + w) != std::string::npos || msg.find("string " + w + " ") != std::string::npos) { // (a value of one character: PETSc's parse errors end with it)
         first = sc.petsc_where;
         msg += " (the scene's petsc: \"" + sc.petsc + "\")";
         break;
       }
   }
   return (first.empty() ? sc.file : first) + ": " + msg;
+}
+
+// PETSc's parse errors name the value only ("Input string abc has no numeric value", "Unknown
+// logical value: yes2"): put the command line's option that holds it in front.
+std::string NameOption(const std::string &msg, int argc, char **argv) {
+  std::smatch m;
+  if (!std::regex_search(msg, m, std::regex("Input string (.*) has no (numeric|integer) value|Unknown logical value: (.*)"))) return msg;
+  const std::string v = m[1].matched ? m[1].str() : m[3].str();
+  for (int i = 1; i + 1 < argc; ++i)
+    if (argv[i][0] == '-' && v == argv[i + 1]) return std::string(argv[i]) + " " + v + ": " + msg;
+  return msg;
+}
+
+// The advisor's option (before the scene is read: `model: auto` needs it).
+PetscErrorCode AdvisorOptions(PetscReal *strain_limit) {
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "fdem model advisor (doc/advisor.md)", "fdem");
+  PetscCall(PetscOptionsReal("-fdem_advise_strain", "Expected strain above which a body needs a deformable mesh (model: auto and fdem check)", "fdem", *strain_limit, strain_limit, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(*strain_limit > 0 && *strain_limit < PETSC_INFINITY, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "-fdem_advise_strain %g: give a strain > 0 (default 0.01)", (double)*strain_limit);
+  PetscFunctionReturn(0);
 }
 
 // Reads the scene and its meshes (every rank, the same result). Returns an error message or "".
@@ -148,9 +169,14 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   std::vector<fdem::kernels::TetMesh> meshes;
   std::vector<std::string>             report;
   PetscReal                            strain_limit = 1e-2;
-  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "fdem model advisor (doc/advisor.md)", "fdem");
-  PetscCall(PetscOptionsReal("-fdem_advise_strain", "Expected strain above which a body needs a deformable mesh (model: auto and fdem check)", "fdem", strain_limit, &strain_limit, nullptr));
-  PetscOptionsEnd();
+  if (PetscErrorCode e = AdvisorOptions(&strain_limit)) {
+    const char *text;
+    char       *specific = nullptr;
+    PetscErrorMessage(e, &text, &specific);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", NameOption(specific && specific[0] ? specific : text, argc, argv).c_str()));
+    *status = 1;
+    PetscFunctionReturn(0);
+  }
   const std::string err = LoadScene(file, sc, meshes, strain_limit, report);
   if (!err.empty()) {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", err.c_str()));
@@ -185,7 +211,7 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
     const char *text;
     char       *specific = nullptr;
     PetscErrorMessage(ierr, &text, &specific);
-    const std::string what = specific && specific[0] ? specific : (text ? text : "unknown error");
+    const std::string what = NameOption(specific && specific[0] ? specific : (text ? text : "unknown error"), argc, argv);
     const std::string msg  = petsc_failed ? sc.petsc_where + ": petsc: \"" + sc.petsc + "\": " + what : NameBodies(sc, what);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s\n", msg.c_str()));
     *status = 1;

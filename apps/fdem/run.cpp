@@ -8,11 +8,13 @@
 #include <petscts.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -148,7 +150,9 @@ PetscErrorCode PrintTimeSummary(MPI_Comm comm, double wall) {
     double tl = info.time, tg;
     PetscCallMPI(MPI_Allreduce(&tl, &tg, 1, MPI_DOUBLE, MPI_MAX, comm));
     if (info.count == 0 && tg == 0) continue;
-    PetscCall(PetscPrintf(comm, " %s %.2f s (%.0f%%);", name, tg, wall > 0 ? 100 * tg / wall : 0.0));
+    // (a share of the stepping's wall time; an event that also ran in the set-up can exceed a short run's)
+    if (wall > 0 && tg <= wall) PetscCall(PetscPrintf(comm, " %s %.2f s (%.0f%%);", name, tg, 100 * tg / wall));
+    else PetscCall(PetscPrintf(comm, " %s %.2f s;", name, tg));
   }
   PetscCall(PetscPrintf(comm, "\n"));
   PetscFunctionReturn(0);
@@ -378,10 +382,58 @@ PetscErrorCode WriteCheckpoint(Sim &s, const std::string &dir, long keep, PetscR
   PetscFunctionReturn(0);
 }
 
+// -restart FILE: a file that rank 0 can read and that holds HDF5's signature (at byte 0, 512,
+// 1024, 2048, ...), so that a wrong path is named as such rather than by HDF5's own failure.
+PetscErrorCode CheckRestartFile(MPI_Comm comm, const char *path) {
+  PetscMPIInt rank;
+  char        why[256] = "";
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    struct stat st;
+    FILE       *f = nullptr;
+    if (stat(path, &st) != 0) std::snprintf(why, sizeof why, "%s", std::strerror(errno));
+    else if (!S_ISREG(st.st_mode)) std::snprintf(why, sizeof why, "not a file");
+    else if (!(f = std::fopen(path, "rb"))) std::snprintf(why, sizeof why, "%s", std::strerror(errno));
+    else {
+      static const unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+      bool                       found  = false;
+      for (long long off = 0; !found && off + 8 <= (long long)st.st_size; off = off ? 2 * off : 512) {
+        unsigned char b[8];
+        found = std::fseek(f, (long)off, SEEK_SET) == 0 && std::fread(b, 1, 8, f) == 8 && std::memcmp(b, sig, 8) == 0;
+      }
+      std::fclose(f);
+      if (!found) std::snprintf(why, sizeof why, "not an HDF5 file");
+    }
+  }
+  PetscCallMPI(MPI_Bcast(why, sizeof why, MPI_CHAR, 0, comm));
+  PetscCheck(!why[0], comm, PETSC_ERR_FILE_OPEN, "-restart %s: %s (give the checkpoint.h5 that a run of this scene wrote)", path, why);
+  PetscFunctionReturn(0);
+}
+
+// PETSc reads an integer option with strtoll and keeps the low bits (-ts_max_steps 4294967297 is
+// 1 step): the integer options of a run, checked against this build's range before they are read.
+PetscErrorCode CheckIntegerOptions(MPI_Comm comm) {
+  PetscFunctionBeginUser;
+  for (const char *name : {"-ts_max_steps", "-fdem_insert_every", "-fdem_checkpoint_kill", "-ts_fdem_check_interval", "-ts_max_reject", "-ts_max_snes_failures", "-ts_monitor_frequency"}) {
+    char      v[256];
+    PetscBool set;
+    PetscCall(PetscOptionsGetString(nullptr, nullptr, name, v, sizeof v, &set));
+    if (!set) continue;
+    char *end = nullptr;
+    errno     = 0;
+    const long long n = std::strtoll(v, &end, 10);
+    const bool integer = end != v && *end == '\0'; // (PETSc's own parse names other strings)
+    PetscCheck(!integer || (errno != ERANGE && n >= PETSC_MIN_INT && n <= PETSC_MAX_INT), comm, PETSC_ERR_USER_INPUT, "%s %s: beyond the integers this build counts (%" PetscInt_FMT " at most)", name, v, (PetscInt)PETSC_MAX_INT);
+  }
+  PetscFunctionReturn(0);
+}
+
 } // namespace
 
 PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscFunctionBeginUser;
+  PetscCall(CheckIntegerOptions(comm));
   PetscOptionsBegin(comm, nullptr, "fdem driver (scene keys: fdem --help)", "fdem");
   PetscCall(PetscOptionsString("-fdem_output", "output folder (overrides output.dir of the scene; none: write nothing)", "", o.output, o.output, sizeof(o.output), nullptr));
   PetscCall(PetscOptionsBool("-fdem_progress", "progress line on rank 0 (at most once per second)", "", o.progress, &o.progress, nullptr));
@@ -391,6 +443,7 @@ PetscErrorCode RunOptionsFromCommandLine(MPI_Comm comm, RunOptions &o) {
   PetscCall(PetscOptionsString("-restart", "continue the scene from this checkpoint (e.g. out/checkpoint.h5)", "", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscCall(PetscOptionsInt("-fdem_checkpoint_kill", "(tests) kill the process with SIGKILL after writing the k-th checkpoint's temporary file, before the rename", "", o.kill_in_checkpoint, &o.kill_in_checkpoint, nullptr));
   PetscOptionsEnd();
+  PetscCheck(o.gain_limit >= 0, comm, PETSC_ERR_USER_INPUT, "-fdem_balance_gain_limit %g: give a fraction >= 0 (0: never stop)", (double)o.gain_limit);
   PetscCheck(o.insert_heap >= 0 && o.insert_heap <= 100, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_heap %.4g: give a factor from 0 (none) to 100", (double)o.insert_heap);
   PetscCheck(o.insert_every >= 1, comm, PETSC_ERR_USER_INPUT, "-fdem_insert_every %" PetscInt_FMT ": give a number of steps >= 1", o.insert_every);
   PetscFunctionReturn(0);
@@ -408,12 +461,17 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(PetscTime(&w0));
   PetscCall(PetscStrncpy(scheme, sc.scheme.c_str(), sizeof(scheme)));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-ts_type", scheme, sizeof(scheme), &flg)); // the TS's own option (TSSetFromOptions lists it)
+  // the TS would take -ts_init_time at every set-up (also after each rebuild and checkpoint), while
+  // the steps, the output intervals and the moved bodies count from the run's own start
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-ts_init_time", &flg));
+  PetscCheck(!flg, comm, PETSC_ERR_USER_INPUT, "-ts_init_time: a run starts at t = 0, or at its checkpoint's time with -restart; leave it out (-ts_max_time or time.end sets the end)");
   if (o.restart[0]) { // a checkpoint's overlaps were made by the run: a deep one is a warning, unless the command line says otherwise
     PetscBool given;
     PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
     if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
   }
   std::vector<PetscInt> split_cells; // the tetrahedra a checkpoint's run had split by insertion
+  if (o.restart[0]) PetscCall(CheckRestartFile(comm, o.restart));
   if (o.restart[0]) PetscCall(SimReadFractureCells(comm, o.restart, split_cells));
   if (!split_cells.empty()) {
     bool inserting = false;
@@ -441,6 +499,12 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const char *dt_from = dt != dt_chosen ? "-ts_dt" : dt_restart > 0 ? "from the checkpoint" : sc.dt > 0 ? "from the scene" : "auto"; // the command line wins
   PetscCall(TSGetMaxTime(s.ts, &end));
+  // -ts_dt and -ts_max_time of the command line come through TSSetFromOptions unchecked
+  // (an option's message is placed by the caller: the command line, or the scene's petsc:)
+  const bool dt_option = dt != dt_chosen, end_option = end != sc.end;
+  PetscCheck(dt > 0 && std::isfinite(dt), comm, PETSC_ERR_USER_INPUT, "%s%sthe time step %g s (%s) must be positive and finite", dt_option ? "" : sc.time_where.c_str(), dt_option ? "" : ": ", (double)dt, dt_from);
+  PetscCheck(std::isfinite(end) && (end > t || (o.restart[0] && end == t)), comm, PETSC_ERR_USER_INPUT, "%s%sthe run's end t = %g s (%s) must be finite and after its start, t = %g s%s", end_option ? "" : sc.time_where.c_str(), end_option ? "" : ": ", (double)end,
+             end_option ? "-ts_max_time" : "time.end", (double)t, o.restart[0] ? " (the checkpoint's time)" : "");
   PetscCall(PetscTime(&wbuild));
   const PetscInt nbodies = (PetscInt)sc.bodies.size();
   PetscCall(PetscPrintf(comm, "%s%s%s: %d bodies (%d rigid, %d deformable), %" PetscInt_FMT " tetrahedra, %" PetscInt_FMT " nodes (%" PetscInt_FMT " fixed, %" PetscInt_FMT " moved), %" PetscInt_FMT " degrees of freedom, %d ranks\n", sc.file.c_str(),
@@ -640,7 +704,7 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (o.gain_limit > 0 && gain > o.gain_limit * scale && gain > 1e-9 * (std::fabs(first.total) + std::fabs(first.gravity) + scale) && gain > 1e-12) {
       if (bal) std::fflush(bal);
       SETERRQ(comm, PETSC_ERR_NOT_CONVERGED,
-              "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.0f%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
+              "%s: the scene gained %g J by t = %g s (step %" PetscInt_FMT "), %.3g%% of its energy (%g J: kinetic, stored, and the work of gravity and of the moved bodies), far more than the integration error: the time step is unstable for some contact or element. "
               "dt: auto bounds one contact of the stiffest kind; dense packs (a body pressed by several at once) and elongated bodies' rotation can be faster: lower time.safety or time.dt (-fdem_balance_gain_limit %g stops at this fraction; 0 never stops).",
               sc.dt_where.c_str(), (double)gain, (double)t, step, 100 * (double)(gain / scale), (double)scale, (double)o.gain_limit);
     }

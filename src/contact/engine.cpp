@@ -1101,7 +1101,7 @@ PetscErrorCode Engine::CheckTimeStep(const char *scheme, PetscReal dt, PetscReal
   if (ratio) *ratio = r;
   if (r > 0.5)
     PetscCall(PetscPrintf(comm_,
-                          "WARNING fdem contact: the contact frequency omega_c = %g (%s side; see doc/contact_engine.md) makes omega_c dt = %g, %.0f%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
+                          "WARNING fdem contact: the contact frequency omega_c = %g (%s side; see doc/contact_engine.md) makes omega_c dt = %g, %.3g%% of the stability limit K_crit = %.4f of -ts_type %s; reduce dt below %g "
                           "or the penalty\n",
                           (double)omega, glob.kind >= (int)adapters_.size() ? "granular" : glob.kind >= 0 ? adapters_[glob.kind]->KindName() : "no", (double)(omega * dt), (double)(100 * r), (double)info.kcrit, scheme, (double)(0.5 * info.kcrit / omega)));
   PetscFunctionReturn(0);

@@ -10,6 +10,7 @@
 
 #include "../kernels/materials/table.hpp"
 
+#include <cmath>
 #include <new>
 #include <string>
 #include <vector>
@@ -95,12 +96,15 @@ PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable d, FDEMDeformableForceFn
 PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) { return FDEMDeformableAddForce(d, fn, ctx); }
 
 PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable d) {
-  PetscInt  three = 3;
+  PetscInt  three = 4;
   PetscBool flg;
   PetscFunctionBegin;
   PetscOptionsBegin(d->comm, nullptr, "fdem deformable bodies", "FDEMDeformable");
-  PetscCall(PetscOptionsRealArray("-fdem_deformable_gravity", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", d->g, &three, &flg));
-  PetscCheck(!flg || three == 3, d->comm, PETSC_ERR_ARG_SIZ, "-fdem_deformable_gravity takes three numbers gx,gy,gz; got %" PetscInt_FMT, three);
+  PetscReal g[4] = {d->g[0], d->g[1], d->g[2], 0}; // (room for a fourth number, to tell that one was given)
+  PetscCall(PetscOptionsRealArray("-fdem_deformable_gravity", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", g, &three, &flg));
+  PetscCheck(!flg || three == 3, d->comm, PETSC_ERR_ARG_SIZ, "-fdem_deformable_gravity takes three numbers gx,gy,gz; got %s", three > 3 ? "more" : std::to_string(three).c_str());
+  PetscCheck(!flg || (std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2])), d->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fdem_deformable_gravity %g,%g,%g: give finite numbers", (double)g[0], (double)g[1], (double)g[2]);
+  if (flg) std::copy(g, g + 3, d->g);
   PetscCall(PetscOptionsEList("-fdem_deformable_partition", "Element partition: metis (METIS_PartMeshDual) or simple (contiguous blocks)", "FDEMDeformableSetUp", PartitionTypes, 2, PartitionTypes[d->partition], &d->partition, nullptr));
   PetscCall(PetscOptionsBool("-fdem_deformable_view", "Print sizes and the partition balance after set-up", "FDEMDeformableSetUp", d->view, &d->view, nullptr));
   PetscOptionsEnd();

@@ -120,7 +120,7 @@ PetscErrorCode CommonCompose(TS ts, PetscBool on) {
 namespace {
 std::string InterpolateMessage(const Common *c) {
   return std::string("-ts_type ") + c->info.name +
-         ": -ts_exact_final_time interpolate is not available; the fdem types end exactly at the final time with -ts_exact_final_time matchstep (the last step is shortened to land on it)";
+         ": -ts_exact_final_time interpolate (which PETSc also takes for unspecified) is not available; the fdem types end exactly at the final time with -ts_exact_final_time matchstep (the last step is shortened to land on it)";
 }
 
 // The step size must be a positive finite number.

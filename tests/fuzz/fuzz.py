@@ -29,7 +29,9 @@ paths resolve), run there as `fdem check INPUT` and as
 per run, 1 or 2 ranks in turn, and removed. Mutations know YAML: numbers
 become extreme values, keys are deleted, duplicated or renamed, values are
 swapped between keys or taken from other seeds, flow lists shortened or
-lengthened, braces and brackets broken, lines swapped, deleted or re-indented.
+lengthened, braces and brackets broken, lines swapped, deleted or re-indented;
+and a scene's `petsc:` string is given one of the options the sources read
+(and a few of PETSc's TS options) with an extreme or odd value.
 An input is classified by its worst run: rejected_located if each message
 `fdem: error: ...` names the input as file:line, crash if a run ended by a
 signal, a PETSc error trace or a non-zero exit without such a message. Kept
@@ -203,8 +205,32 @@ def flow_lists(data):
     return out
 
 
+def option_names():
+    """The options fdem reads (the strings "-fdem_..." and "-ts_fdem_..." in src/ and apps/, as
+    tests/driver/help_options.py finds them) and the TS options the driver takes, without the
+    tests' kill switch."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    names = set()
+    for top in ("src", "apps"):
+        for d, _, files in os.walk(os.path.join(root, top)):
+            for f in files:
+                if f.endswith((".cpp", ".hpp", ".h")):
+                    with open(os.path.join(d, f), errors="replace") as fh:
+                        names |= set(re.findall(r'"(-(?:ts_)?fdem_[a-z0-9_]+)', fh.read()))
+    names |= {"-ts_dt", "-ts_max_time", "-ts_max_steps", "-ts_type", "-ts_init_time", "-ts_exact_final_time", "-ts_adapt_type", "-restart"}
+    return sorted(names - {"-fdem_checkpoint_kill"})
+
+
+OPTIONS = option_names()
+OPTION_VALUES = SCENE_VALUES + ["yes2", "1,2", "1,2,3,4", "0,0,-9.81", "nan,0,0", "4294967297", "-2147483649", "1.5", "cd", "none"]
+
+
 def mutate_scene(data, pool, rng):
-    kind = rng.randrange(18)
+    kind = rng.randrange(19)
+    if kind == 18:  # the scene's petsc: string, one option with an extreme or odd value
+        kept = [l for l in data.split(b"\n") if not l.startswith(b"petsc:")]
+        opt = '%s %s' % (rng.choice(OPTIONS), rng.choice(OPTION_VALUES))
+        return b"\n".join(kept + [b'petsc: "' + opt.replace('"', "").encode() + b'"'])
     lines = data.split(b"\n")
     ents = entries(data)
     if kind <= 3:  # a number (or a value) becomes an extreme or odd one
