@@ -192,6 +192,17 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
     ierr = PetscOptionsInsertString(nullptr, sc.petsc.c_str());
     if (ierr) petsc_failed = true;
     else ierr = PetscOptionsInsertString(nullptr, cl.c_str());
+    // -fdem_advise_strain in the scene's petsc: (unless the command line gives it) decides
+    // model: auto too: the scene is read again with it
+    PetscReal given = strain_limit;
+    if (!ierr) ierr = AdvisorOptions(&given);
+    if (!ierr && given != strain_limit) {
+      strain_limit = given;
+      meshes.clear();
+      report.clear();
+      const std::string again = LoadScene(file, sc, meshes, strain_limit, report);
+      PetscCheck(again.empty(), PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "%s", again.c_str());
+    }
   }
   RunOptions o;
   o.check_only = mode && !std::strcmp(mode, "check") ? PETSC_TRUE : PETSC_FALSE;
