@@ -112,6 +112,14 @@ std::string NameBodies(const Scene &sc, std::string msg) {
   return (first.empty() ? sc.file : first) + ": " + msg;
 }
 
+// The text of a PETSc error: its specific message, else the generic one.
+std::string ErrorText(PetscErrorCode ierr) {
+  const char *text     = nullptr;
+  char       *specific = nullptr;
+  PetscErrorMessage(ierr, &text, &specific);
+  return specific && specific[0] ? specific : (text ? text : "unknown error");
+}
+
 // PETSc's parse errors name the value only ("Input string abc has no numeric value", "Unknown
 // logical value: yes2"): put the command line's option that holds it in front.
 std::string NameOption(const std::string &msg, int argc, char **argv) {
@@ -170,10 +178,7 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   std::vector<std::string>             report;
   PetscReal                            strain_limit = 1e-2;
   if (PetscErrorCode e = AdvisorOptions(&strain_limit)) {
-    const char *text;
-    char       *specific = nullptr;
-    PetscErrorMessage(e, &text, &specific);
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", NameOption(specific && specific[0] ? specific : text, argc, argv).c_str()));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", NameOption(ErrorText(e), argc, argv).c_str()));
     *status = 1;
     PetscFunctionReturn(0);
   }
@@ -219,10 +224,7 @@ PetscErrorCode Main(int argc, char **argv, int first, const char *mode, const ch
   if (!ierr) ierr = RunOptionsFromCommandLine(PETSC_COMM_WORLD, o); // (its errors, as the run's, are named after the scene)
   if (!ierr) ierr = RunScene(PETSC_COMM_WORLD, sc, std::move(meshes), o);
   if (ierr) {
-    const char *text;
-    char       *specific = nullptr;
-    PetscErrorMessage(ierr, &text, &specific);
-    const std::string what = NameOption(specific && specific[0] ? specific : (text ? text : "unknown error"), argc, argv);
+    const std::string what = NameOption(ErrorText(ierr), argc, argv);
     const std::string msg  = petsc_failed ? sc.petsc_where + ": petsc: \"" + sc.petsc + "\": " + what : NameBodies(sc, what);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfdem: error: %s\n", msg.c_str()));
     *status = 1;
@@ -265,10 +267,7 @@ int main(int argc, char **argv) {
   }
   const PetscErrorCode ierr = Main(pargc, pargv, 1, mode, file, &status);
   if (ierr) {
-    const char *text;
-    char       *specific = nullptr;
-    PetscErrorMessage(ierr, &text, &specific);
-    PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", specific && specific[0] ? specific : text);
+    PetscPrintf(PETSC_COMM_WORLD, "fdem: error: %s\n", ErrorText(ierr).c_str());
     status = 1;
   }
   PetscCall(PetscFinalize());

@@ -471,8 +471,10 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
   }
   std::vector<PetscInt> split_cells; // the tetrahedra a checkpoint's run had split by insertion
-  if (o.restart[0]) PetscCall(CheckRestartFile(comm, o.restart));
-  if (o.restart[0]) PetscCall(SimReadFractureCells(comm, o.restart, split_cells));
+  if (o.restart[0]) {
+    PetscCall(CheckRestartFile(comm, o.restart));
+    PetscCall(SimReadFractureCells(comm, o.restart, split_cells));
+  }
   if (!split_cells.empty()) {
     bool inserting = false;
     for (const Body &b : sc.bodies) {
