@@ -538,7 +538,8 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   PetscInt     max_steps;
   PetscBool    max_steps_set;
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-ts_max_steps", &max_steps, &max_steps_set)); // the command line wins: the run stops at that step
-  const bool capped = max_steps_set && max_steps >= 0 && (double)max_steps < steps_to_end; // (then the steps to the end need not be counted)
+  PetscCheck(!max_steps_set || max_steps >= 0, comm, PETSC_ERR_USER_INPUT, "-ts_max_steps %" PetscInt_FMT ": give the step number to stop at, 0 or more", max_steps);
+  const bool capped = max_steps_set && (double)max_steps < steps_to_end; // (then the steps to the end need not be counted)
   PetscCheck(capped || steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s (%s) takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.time_where.c_str(), (double)end, (double)dt,
              dt_from, steps_to_end, (int)(PETSC_MAX_INT / 2));
   const PetscInt nsteps = capped ? std::max<PetscInt>(max_steps, 1) : std::max<PetscInt>(1, (PetscInt)steps_to_end);

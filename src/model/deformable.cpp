@@ -3,6 +3,7 @@
 // their own files, listed in deformable_object.hpp; see
 // include/fdem/deformable.h and doc/deformable.md.
 #include "../util/guard.hpp"
+#include "../util/options.hpp"
 #include "deformable_impl.hpp"
 #include <algorithm>
 #include <utility>
@@ -96,15 +97,9 @@ PetscErrorCode FDEMDeformableRemoveForce(FDEMDeformable d, FDEMDeformableForceFn
 PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableForceFn fn, void *ctx) { return FDEMDeformableAddForce(d, fn, ctx); }
 
 PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable d) {
-  PetscInt  three = 4;
-  PetscBool flg;
   PetscFunctionBegin;
   PetscOptionsBegin(d->comm, nullptr, "fdem deformable bodies", "FDEMDeformable");
-  PetscReal g[4] = {d->g[0], d->g[1], d->g[2], 0}; // (room for a fourth number, to tell that one was given)
-  PetscCall(PetscOptionsRealArray("-fdem_deformable_gravity", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", g, &three, &flg));
-  PetscCheck(!flg || three == 3, d->comm, PETSC_ERR_ARG_SIZ, "-fdem_deformable_gravity takes three numbers gx,gy,gz; got %s", three > 3 ? "more" : std::to_string(three).c_str());
-  PetscCheck(!flg || (std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2])), d->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fdem_deformable_gravity %g,%g,%g: give finite numbers", (double)g[0], (double)g[1], (double)g[2]);
-  if (flg) std::copy(g, g + 3, d->g);
+  PetscCall(fdem::OptionsVector3(PetscOptionsObject, d->comm, "-fdem_deformable_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", d->g, nullptr));
   PetscCall(PetscOptionsEList("-fdem_deformable_partition", "Element partition: metis (METIS_PartMeshDual) or simple (contiguous blocks)", "FDEMDeformableSetUp", PartitionTypes, 2, PartitionTypes[d->partition], &d->partition, nullptr));
   PetscCall(PetscOptionsBool("-fdem_deformable_view", "Print sizes and the partition balance after set-up", "FDEMDeformableSetUp", d->view, &d->view, nullptr));
   PetscOptionsEnd();

@@ -1,5 +1,6 @@
 // Rigid discrete elements in a DMSwarm; see include/fdem/rigid.h.
 #include "../util/guard.hpp"
+#include "../util/options.hpp"
 #include "rigid_impl.hpp"
 #include <fdem/ts.h>
 #include <fdem/kernels/error.hpp>
@@ -346,8 +347,6 @@ PetscErrorCode FDEMRigidAddForce(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx) {
 PetscErrorCode FDEMRigidSetForceFunction(FDEMRigid rb, FDEMRigidForceFn fn, void *ctx) { return FDEMRigidAddForce(rb, fn, ctx); }
 
 PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
-  PetscInt  three = 4;
-  PetscBool flg;
   PetscFunctionBegin;
   PetscOptionsBegin(rb->comm, nullptr, "fdem rigid bodies", "FDEMRigid");
   PetscCall(PetscOptionsEnum("-fdem_rigid_rotation", "Free rotation of the drift: munjiza (book 5.2.10, order 2), nosquish (symplectic, order 2), exact (Jacobi elliptic)", "FDEMRigidSetRotationType",
@@ -355,11 +354,7 @@ PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscCall(PetscOptionsBool("-fdem_rigid_partition_pairs", "Weigh each body in the partition by the contact pairs it took part in at the last search (false: by its contact primitives only)", "FDEMRigidMigrate", rb->weight_pairs, &rb->weight_pairs, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_partition_timed", "Weigh each body in the partition by measured CPU time: its primitives times the time per primitive and its pairs times the time per pair, both measured over the last segment on every rank (not reproducible to the bit from run to run)", "FDEMRigidMigrate", rb->weight_timed, &rb->weight_timed, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_sphere_orientation", "Turn the spheres' orientation R with their spin (for output; their contacts do not need it)", "FDEMRigidAddSphere", rb->sphere_orientation, &rb->sphere_orientation, nullptr));
-  PetscReal g[4] = {rb->g[0], rb->g[1], rb->g[2], 0}; // (room for a fourth number, to tell that one was given)
-  PetscCall(PetscOptionsRealArray("-fdem_rigid_gravity", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", g, &three, &flg));
-  PetscCheck(!flg || three == 3, rb->comm, PETSC_ERR_ARG_SIZ, "-fdem_rigid_gravity takes three numbers gx,gy,gz; got %s", three > 3 ? "more" : std::to_string(three).c_str());
-  PetscCheck(!flg || (std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2])), rb->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fdem_rigid_gravity %g,%g,%g: give finite numbers", (double)g[0], (double)g[1], (double)g[2]);
-  if (flg) std::copy(g, g + 3, rb->g);
+  PetscCall(fdem::OptionsVector3(PetscOptionsObject, rb->comm, "-fdem_rigid_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g, nullptr));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }

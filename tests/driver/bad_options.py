@@ -14,6 +14,7 @@ missing = os.path.join(work, "missing.h5")
 # (options, text the error must contain)
 cases = [
     (["-ts_max_steps", "4294967297"], "-ts_max_steps 4294967297: beyond the integers this build counts"),
+    (["-ts_max_steps", "-5"], "-ts_max_steps -5: give the step number to stop at, 0 or more"),
     (["-fdem_insert_every", "99999999999999999999"], "-fdem_insert_every 99999999999999999999: beyond the integers"),
     (["-fdem_balance_gain_limit", "abc"], "-fdem_balance_gain_limit abc: Input string abc has no numeric value"),
     (["-fdem_balance_gain_limit", "-1"], "-fdem_balance_gain_limit -1.: give a fraction >= 0"),
