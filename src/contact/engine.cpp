@@ -183,19 +183,27 @@ PetscErrorCode Engine::CheckPenaltySet() const {
 
 PetscErrorCode Engine::SetFromOptions() {
   PetscReal pen = par_.penalty, damp = par_.diss.normal_damping, mu = par_.diss.friction, ct = par_.diss.tangential_viscosity, buf = par_.buffer;
-  PetscBool fp, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE, ks = keep_search_ ? PETSC_TRUE : PETSC_FALSE, ic = initial_check_ ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool fp, fd, fm, fc, fb, self = par_.self, so = surface_only_ ? PETSC_TRUE : PETSC_FALSE, ks = keep_search_ ? PETSC_TRUE : PETSC_FALSE, ic = initial_check_ ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBegin;
   PetscOptionsBegin(comm_, nullptr, "fdem contact (every pair of body kinds)", "FDEMContact");
   PetscCall(PetscOptionsReal("-fdem_contact_penalty", "Penalty (Pa): a face pushed a depth d into a tetrahedron of height H feels ~ penalty d/H", "FDEMContactSetPenalty", pen, &pen, &fp));
-  PetscCall(PetscOptionsReal("-fdem_contact_damping", "Normal contact damping (Pa s/m)", "FDEMContactSetDissipation", damp, &damp, nullptr));
-  PetscCall(PetscOptionsReal("-fdem_contact_friction", "Coulomb friction coefficient", "FDEMContactSetDissipation", mu, &mu, nullptr));
-  PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, nullptr));
+  PetscCall(PetscOptionsReal("-fdem_contact_damping", "Normal contact damping (Pa s/m)", "FDEMContactSetDissipation", damp, &damp, &fd));
+  PetscCall(PetscOptionsReal("-fdem_contact_friction", "Coulomb friction coefficient", "FDEMContactSetDissipation", mu, &mu, &fm));
+  PetscCall(PetscOptionsReal("-fdem_contact_tangential_viscosity", "Tangential viscosity regularising stick (Pa s/m)", "FDEMContactSetDissipation", ct, &ct, &fc));
   PetscCall(PetscOptionsReal("-fdem_contact_buffer", "Search buffer (length; < 0: automatic, see doc/contact_engine.md; 0: a search at every evaluation); re-search after a vertex moved half of it", "FDEMContactSetBuffer", buf, &buf, &fb));
   PetscCall(PetscOptionsBool("-fdem_contact_self", "Self-contact between surface tetrahedra of one deformable body that share no node", "FDEMDeformableContactSetSelfContact", self, &self, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_surface_only", "Push only the surface faces of a rigid body's skin tetrahedra (the shared faces' forces cancel; a pair's damping and friction then see the surface faces only)", "", so, &so, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_keep_search", "Where fracture lists the contact again with the same contact tetrahedra, keep the last search and write the changed records in place; false: list and search again (a check: the same answers to round-off, doc/contact_engine.md)", "", ks, &ks, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_initial_overlap_check", "Stop at the first evaluation when two bodies start interpenetrating deeply (a set-up error); false: a warning (the fdem driver's default when it restarts from a checkpoint, whose overlaps the run made)", "", ic, &ic, nullptr));
   PetscOptionsEnd();
+  // a value given as an option is checked here, naming the option (the setters' checks below
+  // name the quantity only, and a scene's petsc: line is found by the option's name)
+  PetscCheck(!fp || (std::isfinite(pen) && pen > 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_penalty %g: give a positive, finite penalty (Pa)", who_.c_str(), (double)pen);
+  PetscCheck(!fd || (std::isfinite(damp) && damp >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_damping %g: give a damping >= 0 (Pa s/m)", who_.c_str(), (double)damp);
+  PetscCheck(!fm || (std::isfinite(mu) && mu >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g: give a friction coefficient >= 0", who_.c_str(), (double)mu);
+  PetscCheck(!fc || (std::isfinite(ct) && ct >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_tangential_viscosity %g: give a tangential viscosity >= 0 (Pa s/m)", who_.c_str(), (double)ct);
+  PetscCheck(!fb || buf < 0 || std::isfinite(buf), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_buffer %g: give a finite length (< 0: automatic)", who_.c_str(), (double)buf);
+  PetscCheck(!fm || mu == 0 || ct > 0, comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g needs a tangential viscosity > 0 (-fdem_contact_tangential_viscosity, now %g): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md)", who_.c_str(), (double)mu, (double)ct);
   surface_only_  = so;
   keep_search_   = ks;
   initial_check_ = ic;
