@@ -8,7 +8,7 @@ exists), all at the time step of the split block (the joints' limit, `-ts_dt`), 
 files. From each run's summary: the time in the TS's steps per step (TSStep: the body's cost
 per step), the stepping CPU time per step (with the insertions' searches and rebuilds), the
 joints at the end and the fragments. Prints the medians and the ratios to the block that is not
-fracturable: the ratio of the medians, and the median of each round's ratio (the variants of a
+fracturable: the ratio of the medians, and the median and range of each round's ratio (the variants of a
 round run one after the other, so a machine whose speed drifts moves both alike).
 
   insertion.py --fdem FDEM [--scene SCENE] [--rounds R] [--core C] [driver options...]
@@ -61,11 +61,11 @@ for r in range(args.rounds):
         print(f"round {r + 1} {n:22s} {x['steps']} steps: TSStep {1e3 * x['tsstep']:.3f} ms/step, stepping CPU {1e3 * x['cpu']:.3f} ms/step, {x['joints']} joints at the end, {x['fragments']} fragments, {x['insertions']} insertions ({x['rebuild']:.2f} s of wall time in the searches and rebuilds)", flush=True)
 base = statistics.median(x["tsstep"] for x in res["not fracturable"])
 basec = statistics.median(x["cpu"] for x in res["not fracturable"])
-print("\n| block | TSStep per step (median) | ratio | stepping CPU per step, with the rebuilds | ratio | the rounds' ratios (median) | joints at the end | fragments |")
+print("\n| block | TSStep per step (median) | ratio | stepping CPU per step, with the rebuilds | ratio | the rounds' ratios: median (range) | joints at the end | fragments |")
 print("|---|---|---|---|---|---|---|---|")
 for n in variants:
     t = statistics.median(x["tsstep"] for x in res[n])
     c = statistics.median(x["cpu"] for x in res[n])
-    paired = statistics.median(x["cpu"] / y["cpu"] for x, y in zip(res[n], res["not fracturable"]))
-    print(f"| {n} | {1e3 * t:.3f} ms | {t / base:.2f} | {1e3 * c:.3f} ms | {c / basec:.2f} | {paired:.2f} | {res[n][-1]['joints']} | {res[n][-1]['fragments']} |")
+    ratios = [x["cpu"] / y["cpu"] for x, y in zip(res[n], res["not fracturable"])]
+    print(f"| {n} | {1e3 * t:.3f} ms | {t / base:.2f} | {1e3 * c:.3f} ms | {c / basec:.2f} | {statistics.median(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f}) | {res[n][-1]['joints']} | {res[n][-1]['fragments']} |")
 shutil.rmtree(work)
