@@ -198,11 +198,11 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscOptionsEnd();
   // a value given as an option is checked here, naming the option (the setters' checks below
   // name the quantity only, and a scene's petsc: line is found by the option's name)
-  PetscCheck(!fp || (std::isfinite(pen) && pen > 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_penalty %g: give a positive, finite penalty (Pa)", who_.c_str(), (double)pen);
-  PetscCheck(!fd || (std::isfinite(damp) && damp >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_damping %g: give a damping >= 0 (Pa s/m)", who_.c_str(), (double)damp);
-  PetscCheck(!fm || (std::isfinite(mu) && mu >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g: give a friction coefficient >= 0", who_.c_str(), (double)mu);
-  PetscCheck(!fc || (std::isfinite(ct) && ct >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_tangential_viscosity %g: give a tangential viscosity >= 0 (Pa s/m)", who_.c_str(), (double)ct);
-  PetscCheck(!fb || buf < 0 || std::isfinite(buf), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_buffer %g: give a finite length (< 0: automatic)", who_.c_str(), (double)buf);
+  PetscCheck(!fp || (std::isfinite(pen) && pen > 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_penalty %g: the penalty must be positive and finite (Pa)", who_.c_str(), (double)pen);
+  PetscCheck(!fd || (std::isfinite(damp) && damp >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_damping %g: the damping must be >= 0 and finite (Pa s/m)", who_.c_str(), (double)damp);
+  PetscCheck(!fm || (std::isfinite(mu) && mu >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g: the friction coefficient must be >= 0 and finite", who_.c_str(), (double)mu);
+  PetscCheck(!fc || (std::isfinite(ct) && ct >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_tangential_viscosity %g: the tangential viscosity must be >= 0 and finite (Pa s/m)", who_.c_str(), (double)ct);
+  PetscCheck(!fb || buf < 0 || std::isfinite(buf), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_buffer %g: the search buffer must be a finite length (< 0: automatic)", who_.c_str(), (double)buf);
   PetscCheck(!fm || mu == 0 || ct > 0, comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g needs a tangential viscosity > 0 (-fdem_contact_tangential_viscosity, now %g): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md)", who_.c_str(), (double)mu, (double)ct);
   surface_only_  = so;
   keep_search_   = ks;
