@@ -99,7 +99,7 @@ PetscErrorCode FDEMDeformableSetExternalForce(FDEMDeformable d, FDEMDeformableFo
 PetscErrorCode FDEMDeformableSetFromOptions(FDEMDeformable d) {
   PetscFunctionBegin;
   PetscOptionsBegin(d->comm, nullptr, "fdem deformable bodies", "FDEMDeformable");
-  PetscCall(fdem::OptionsVector3(PetscOptionsObject, d->comm, "-fdem_deformable_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", d->g, nullptr));
+  PetscCall(fdem::OptionsVector3(PetscOptionsObject, d->comm, "-fdem_deformable_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMDeformableSetGravity", d->g));
   PetscCall(PetscOptionsEList("-fdem_deformable_partition", "Element partition: metis (METIS_PartMeshDual) or simple (contiguous blocks)", "FDEMDeformableSetUp", PartitionTypes, 2, PartitionTypes[d->partition], &d->partition, nullptr));
   PetscCall(PetscOptionsBool("-fdem_deformable_view", "Print sizes and the partition balance after set-up", "FDEMDeformableSetUp", d->view, &d->view, nullptr));
   PetscOptionsEnd();

@@ -354,7 +354,7 @@ PetscErrorCode FDEMRigidSetFromOptions(FDEMRigid rb) {
   PetscCall(PetscOptionsBool("-fdem_rigid_partition_pairs", "Weigh each body in the partition by the contact pairs it took part in at the last search (false: by its contact primitives only)", "FDEMRigidMigrate", rb->weight_pairs, &rb->weight_pairs, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_partition_timed", "Weigh each body in the partition by measured CPU time: its primitives times the time per primitive and its pairs times the time per pair, both measured over the last segment on every rank (not reproducible to the bit from run to run)", "FDEMRigidMigrate", rb->weight_timed, &rb->weight_timed, nullptr));
   PetscCall(PetscOptionsBool("-fdem_rigid_sphere_orientation", "Turn the spheres' orientation R with their spin (for output; their contacts do not need it)", "FDEMRigidAddSphere", rb->sphere_orientation, &rb->sphere_orientation, nullptr));
-  PetscCall(fdem::OptionsVector3(PetscOptionsObject, rb->comm, "-fdem_rigid_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g, nullptr));
+  PetscCall(fdem::OptionsVector3(PetscOptionsObject, rb->comm, "-fdem_rigid_gravity", "gx,gy,gz", "Gravity acceleration gx,gy,gz", "FDEMRigidSetGravity", rb->g));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
