@@ -135,22 +135,22 @@ int Engine::AddAdapter(Adapter *a) {
 }
 
 // ------------------------------------------------------------------ parameters
-PetscErrorCode Engine::SetPenalty(PetscReal penalty) {
+PetscErrorCode Engine::SetPenalty(PetscReal penalty, const char *option) {
   PetscFunctionBegin;
-  PetscCall(CheckPenalty(comm_, who_.c_str(), penalty));
+  PetscCall(CheckPenalty(comm_, who_.c_str(), penalty, option));
   par_.penalty = penalty;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity) {
+PetscErrorCode Engine::SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity, const char *const *options) {
   PetscFunctionBegin;
-  PetscCall(fdem::contact::SetDissipation(comm_, who_.c_str(), damping, friction, tangential_viscosity, par_.diss));
+  PetscCall(fdem::contact::SetDissipation(comm_, who_.c_str(), damping, friction, tangential_viscosity, par_.diss, options));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Engine::SetBuffer(PetscReal buffer) {
+PetscErrorCode Engine::SetBuffer(PetscReal buffer, const char *option) {
   PetscFunctionBegin;
-  PetscCall(CheckBuffer(comm_, who_.c_str(), buffer));
+  PetscCall(CheckBuffer(comm_, who_.c_str(), buffer, option));
   par_.buffer   = buffer;
   stats_.buffer = buffer;
   searched_     = false;
@@ -176,7 +176,7 @@ PetscErrorCode Engine::CheckPenaltySet() const {
   PetscFunctionBegin;
   PetscCheck(par_.penalty > 0, comm_, PETSC_ERR_ARG_WRONGSTATE, "%s: the penalty is not set; give -fdem_contact_penalty <Pa> (a positive modulus)", who_.c_str());
   PetscCheck(!(par_.diss.friction > 0) || par_.diss.tangential_viscosity > 0, comm_, PETSC_ERR_ARG_WRONGSTATE,
-             "%s: a friction coefficient (%g) needs a tangential viscosity > 0 (-fdem_contact_tangential_viscosity): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md), so with c_t = 0 there is none",
+             "%s: a friction coefficient (%g: contact.friction, -fdem_contact_friction) needs a tangential viscosity > 0 (contact.tangential_viscosity, -fdem_contact_tangential_viscosity): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md), so with c_t = 0 there is none",
              who_.c_str(), (double)par_.diss.friction);
   PetscFunctionReturn(0);
 }
@@ -196,21 +196,15 @@ PetscErrorCode Engine::SetFromOptions() {
   PetscCall(PetscOptionsBool("-fdem_contact_keep_search", "Where fracture lists the contact again with the same contact tetrahedra, keep the last search and write the changed records in place; false: list and search again (a check: the same answers to round-off, doc/contact_engine.md)", "", ks, &ks, nullptr));
   PetscCall(PetscOptionsBool("-fdem_contact_initial_overlap_check", "Stop at the first evaluation when two bodies start interpenetrating deeply (a set-up error); false: a warning (the fdem driver's default when it restarts from a checkpoint, whose overlaps the run made)", "", ic, &ic, nullptr));
   PetscOptionsEnd();
-  // a value given as an option is checked here, naming the option (the setters' checks below
-  // name the quantity only, and a scene's petsc: line is found by the option's name)
-  PetscCheck(!fp || (std::isfinite(pen) && pen > 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_penalty %g: the penalty must be positive and finite (Pa)", who_.c_str(), (double)pen);
-  PetscCheck(!fd || (std::isfinite(damp) && damp >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_damping %g: the damping must be >= 0 and finite (Pa s/m)", who_.c_str(), (double)damp);
-  PetscCheck(!fm || (std::isfinite(mu) && mu >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g: the friction coefficient must be >= 0 and finite", who_.c_str(), (double)mu);
-  PetscCheck(!fc || (std::isfinite(ct) && ct >= 0), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_tangential_viscosity %g: the tangential viscosity must be >= 0 and finite (Pa s/m)", who_.c_str(), (double)ct);
-  PetscCheck(!fb || buf < 0 || std::isfinite(buf), comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_buffer %g: the search buffer must be a finite length (< 0: automatic)", who_.c_str(), (double)buf);
-  PetscCheck(!fm || mu == 0 || ct > 0, comm_, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fdem_contact_friction %g needs a tangential viscosity > 0 (-fdem_contact_tangential_viscosity, now %g): the friction is regularised, F_t = -min(mu |F_n|, c_t A |v_t|) along v_t (doc/contact.md)", who_.c_str(), (double)mu, (double)ct);
   surface_only_  = so;
   keep_search_   = ks;
   initial_check_ = ic;
-  if (fp) PetscCall(SetPenalty(pen));
-  PetscCall(SetDissipation(damp, mu, ct));
+  // (the options that gave a value are named in an error: a scene's petsc: line is found by them)
+  const char *given[3] = {fd ? "-fdem_contact_damping" : nullptr, fm ? "-fdem_contact_friction" : nullptr, fc ? "-fdem_contact_tangential_viscosity" : nullptr};
+  if (fp) PetscCall(SetPenalty(pen, "-fdem_contact_penalty"));
+  PetscCall(SetDissipation(damp, mu, ct, given));
   if (fb && buf < 0) SetAutomaticBuffer();
-  else if (fb) PetscCall(SetBuffer(buf));
+  else if (fb) PetscCall(SetBuffer(buf, "-fdem_contact_buffer"));
   if (self != par_.self) PetscCall(SetSelfContact(self));
   PetscFunctionReturn(0);
 }

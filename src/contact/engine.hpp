@@ -285,9 +285,10 @@ public:
   PetscErrorCode CheckTimeStep(const char *scheme, PetscReal dt, PetscReal *ratio);
 
   // Parameters; the setters check the values. SetFromOptions reads -fdem_contact_*.
-  PetscErrorCode SetPenalty(PetscReal penalty);
-  PetscErrorCode SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity);
-  PetscErrorCode SetBuffer(PetscReal buffer); // >= 0
+  // (option: the option that gave the value, named in an error; options likewise, one per value)
+  PetscErrorCode SetPenalty(PetscReal penalty, const char *option = nullptr);
+  PetscErrorCode SetDissipation(PetscReal damping, PetscReal friction, PetscReal tangential_viscosity, const char *const *options = nullptr);
+  PetscErrorCode SetBuffer(PetscReal buffer, const char *option = nullptr); // >= 0
   void           SetAutomaticBuffer();        // the default (Adapter::BufferProposal)
   PetscErrorCode SetSelfContact(PetscBool self);
   // Push only the faces in Primitive::push (a rigid skin's surface faces) or every face of every

@@ -334,7 +334,7 @@ PetscErrorCode TestBadInput() {
   PetscCall(ExpectError("no penalty", "-fdem_contact_penalty", [&]() { return FDEMDeformableComputeForces(d, 0, nullptr, F); }));
   PetscCall(ExpectError("negative penalty", "penalty must be positive", [&]() { return FDEMDeformableContactSetPenalty(c, -1); }));
   PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_penalty", "-5"));
-  PetscCall(ExpectError("negative penalty option", "-fdem_contact_penalty -5.: the penalty must be positive", [&]() { return FDEMDeformableContactSetFromOptions(c); }));
+  PetscCall(ExpectError("negative penalty option", "-fdem_contact_penalty: the penalty must be positive", [&]() { return FDEMDeformableContactSetFromOptions(c); }));
   PetscCall(PetscOptionsClearValue(nullptr, "-fdem_contact_penalty"));
   PetscCall(ExpectError("negative friction", "friction", [&]() { return FDEMDeformableContactSetDissipation(c, 0, -0.1, 0); }));
   PetscCall(ExpectError("negative buffer", "buffer", [&]() { return FDEMDeformableContactSetBuffer(c, -1); }));
