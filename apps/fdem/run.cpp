@@ -542,10 +542,11 @@ PetscErrorCode RunScene(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
   const bool capped = max_steps_set && (double)max_steps < steps_to_end; // (then the steps to the end need not be counted)
   PetscCheck(capped || steps_to_end < 0.5 * PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "%s: the run to t = %g s in steps of %g s (%s) takes %.3g steps, more than this build counts (%d): shorten time.end or lengthen the step", sc.time_where.c_str(), (double)end, (double)dt,
              dt_from, steps_to_end, (int)(PETSC_MAX_INT / 2));
-  const PetscInt nsteps = capped ? std::max<PetscInt>(max_steps, 1) : std::max<PetscInt>(1, (PetscInt)steps_to_end);
+  // (-ts_max_steps 0, or a step at or before a restart's: the state is set up and written, no step made)
+  const PetscInt nsteps = capped ? max_steps : std::max<PetscInt>(1, (PetscInt)steps_to_end);
   // the steps in an output interval (at least one, at most the run: an interval beyond the end
   // means "at the end", and the count never leaves the range of PetscInt)
-  auto steps_in = [&](double interval) { return (PetscInt)std::clamp(std::round(interval / dt), 1.0, (double)nsteps); };
+  auto steps_in = [&](double interval) { return (PetscInt)std::clamp(std::round(interval / dt), 1.0, (double)std::max<PetscInt>(nsteps, 1)); };
   if (o.check_only) {
     // time a few steps on a copy of the state
     Vec            U0;
