@@ -152,7 +152,6 @@ PetscErrorCode BuildRigid(Sim &s, const Vec3 &lo, const Vec3 &hi) {
       PetscCall(FDEMRigidMoveBody(s.rb, id, mv));
     }
   }
-  PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &s.nrigid));
   PetscFunctionReturn(0);
 }
 
@@ -313,7 +312,8 @@ PetscErrorCode SimBuild(MPI_Comm comm, const Scene &sc, std::vector<kernels::Tet
     if (b.model == "sphere")
       for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], b.position[k] - b.shape.radius), hi[k] = std::max(hi[k], b.position[k] + b.shape.radius);
   }
-  if (!s.rigid_bodies.empty()) PetscCall(BuildRigid(s, lo, hi));
+  if (!s.rigid_bodies.empty() && !s.rb) PetscCall(BuildRigid(s, lo, hi)); // (s.rb given: kept)
+  if (s.rb) PetscCall(FDEMRigidGetNumBodies(s.rb, nullptr, &s.nrigid));
   for (int i : s.rigid_bodies) s.ndofs += sc.bodies[i].fixed || sc.bodies[i].moved ? 0 : 6;
   PetscCheck(!sc.periodic.Any() || s.deformable_bodies.empty(), comm, PETSC_ERR_USER_INPUT, "%s: periodic boundaries (periodic: at %s) hold rigid bodies and spheres only; body '%s' is deformable (model: auto chose it; give it model: rigid or sphere)",
              s.deformable_bodies.empty() ? sc.file.c_str() : sc.bodies[s.deformable_bodies[0]].where.c_str(),
@@ -557,7 +557,8 @@ struct Parts {
   }
 };
 
-PetscErrorCode MakeParts(Sim &s, Parts &p) {
+// (rigid false: the deformable model's parts only)
+PetscErrorCode MakeParts(Sim &s, Parts &p, bool rigid = true) {
   PetscFunctionBeginUser;
   if (s.dfm) {
     PetscInt        n;
@@ -570,7 +571,7 @@ PetscErrorCode MakeParts(Sim &s, Parts &p) {
     PetscCall(PetscObjectSetName((PetscObject)p.ndx, "mesh_x"));
     PetscCall(PetscObjectSetName((PetscObject)p.ndv, "mesh_v"));
   }
-  if (s.rb) {
+  if (s.rb && rigid) {
     DM        sw;
     PetscInt  n, *id;
     PetscCall(FDEMRigidGetDM(s.rb, &sw));
@@ -687,7 +688,7 @@ PetscErrorCode Natural(Sim &s, Parts &p, bool to, bool has_h = true, bool has_g 
     PetscCall(move(p.sd, p.dx, p.ndx));
     PetscCall(move(p.sd, p.dv, p.ndv));
   }
-  if (s.rb) {
+  if (p.r) {
     PetscCall(part(RigidFields, p.sr, p.r, p.nr));
     if (p.h && has_h) PetscCall(part(RigidSprings, p.sh, p.h, p.nh));
     if (p.g && has_g) PetscCall(part(RigidImagesWork, p.sg, p.g, p.ng));
@@ -799,30 +800,25 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
 }
 
 // What SimWriteCheckpoint of `from` and SimReadCheckpoint into `to` do, without the file: `to`
-// is `from`'s scene built again with more joints.
+// is `from`'s scene built again with more joints, its rigid bodies' model `from`'s (kept as it is).
 static PetscErrorCode SimContinueState(Sim &to, Sim &from) {
   Parts     a, b;
   PetscReal W;
   PetscFunctionBeginUser;
-  PetscCall(MakeParts(from, a));
-  PetscCall(MakeParts(to, b));
+  PetscCheck(to.rb == from.rb, to.comm, PETSC_ERR_PLIB, "SimContinueState: the rigid bodies' model is kept");
+  PetscCall(MakeParts(from, a, false));
+  PetscCall(MakeParts(to, b, false));
   PetscCall(Natural(from, a, true));
   if (to.dfm) {
     PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndx, b.ndx));
     PetscCall(FDEMDeformableContinueNodeVector(to.dfm, from.dfm, a.ndv, b.ndv));
     PetscCall(FDEMDeformableContinueJointState(to.dfm, from.dfm));
   }
-  if (to.rb) {
-    PetscCall(VecCopy(a.nr, b.nr));
-    if (b.h) PetscCall(VecCopy(a.nh, b.nh));
-    if (b.g) PetscCall(VecCopy(a.ng, b.ng));
-  }
   PetscCall(Natural(to, b, false));
   PetscCall(ExternalWork(from, &W));
   PetscCall(SetClock(to, from.E0, W));
   PetscCall(a.Destroy());
   PetscCall(b.Destroy());
-  if (to.rb) PetscCall(FDEMRigidMigrate(to.rb));
   PetscFunctionReturn(0);
 }
 
@@ -860,10 +856,15 @@ PetscErrorCode SimInsertJoints(Sim &s, const std::vector<PetscInt> &cells) {
   PetscBool given; // the bodies' overlaps were made by the run, as at a restart
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fdem_contact_initial_overlap_check", &given));
   if (!given) PetscCall(PetscOptionsSetValue(nullptr, "-fdem_contact_initial_overlap_check", "false"));
+  // the rigid bodies do not change: their model and contact go on as they are (their cost then
+  // does not grow with the number of rigid bodies), with the new deformable model and scene
+  n.rb = s.rb;
+  n.rc = s.rc;
   PetscCall(SimBuild(s.comm, *s.scene, s.meshes, n, all, s.dfm));
   if (n.dfm) PetscCall(FDEMDeformableContinueOutput(n.dfm, s.dfm));
-  if (n.rb) PetscCall(FDEMRigidContinueOutput(n.rb, s.rb));
   PetscCall(SimContinueState(n, s));
+  s.rb = nullptr;
+  s.rc = nullptr;
   PetscCall(SimDestroy(s));
   s = std::move(n);
   PetscFunctionReturn(0);

@@ -53,6 +53,7 @@ struct Sim {
 // fracture_cells: tetrahedra of bodies with joints inserted during the run that are split
 // already (FDEMDeformableAddFractureCells; from a checkpoint or an insertion). previous: the
 // model of the same scene this one replaces (an insertion), whose set-up products it may reuse.
+// sim.rb (and sim.rc) set beforehand: that rigid bodies' model (and contact) is kept, not built.
 PetscErrorCode SimBuild(MPI_Comm comm, const Scene &scene, std::vector<kernels::TetMesh> meshes, Sim &sim, const std::vector<PetscInt> &fracture_cells = {}, _n_FDEMDeformable *previous = nullptr);
 // Creates sim.ts (type `scheme`) and sim.U from the models' stored state. Time and step as given.
 PetscErrorCode SimSetUpTS(Sim &sim, const char *scheme, PetscReal t, PetscInt step);

@@ -159,9 +159,6 @@ PETSC_EXTERN PetscErrorCode FDEMRigidGetInvariants(FDEMRigid rb, PetscReal P[3],
 /* HDF5 + XDMF output of the bodies' contact skins (surface triangles moved
    with the bodies): file base.h5 and base.xmf, one grid per call. */
 PETSC_EXTERN PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step, PetscReal t);
-/* Carries the frames written by one model to its successor's WriteHDF5 (the same file), when
-   a scene is built again during a run (the fdem driver, after joints were inserted). */
-PETSC_EXTERN PetscErrorCode FDEMRigidContinueOutput(FDEMRigid to, FDEMRigid from);
 
 #if defined(__cplusplus)
 }

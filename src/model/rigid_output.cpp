@@ -104,9 +104,3 @@ PetscErrorCode FDEMRigidWriteHDF5(FDEMRigid rb, const char *base, PetscInt step,
   }
   PetscFunctionReturn(0);
 }
-
-PetscErrorCode FDEMRigidContinueOutput(FDEMRigid to, FDEMRigid from) {
-  PetscFunctionBegin;
-  to->outputs = from->outputs;
-  PetscFunctionReturn(0);
-}
