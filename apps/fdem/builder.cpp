@@ -799,8 +799,9 @@ PetscErrorCode SimReadCheckpoint(Sim &s, const char *file, PetscReal *t, PetscIn
   PetscFunctionReturn(0);
 }
 
-// What SimWriteCheckpoint of `from` and SimReadCheckpoint into `to` do, without the file: `to`
-// is `from`'s scene built again with more joints, its rigid bodies' model `from`'s (kept as it is).
+// What SimWriteCheckpoint of `from` and SimReadCheckpoint into `to` do for the deformable model,
+// without the file: `to` is `from`'s scene built again with more joints around the same rigid
+// bodies' model (kept as it is, its state in it).
 static PetscErrorCode SimContinueState(Sim &to, Sim &from) {
   Parts     a, b;
   PetscReal W;
